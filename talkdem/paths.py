@@ -1,0 +1,57 @@
+"""Where TALK-Dem finds its inputs and writes its outputs.
+
+Every location has a default that works in a clone of the repository with `../shared` beside it, and an
+environment variable (and, in the CLI, an option) so that a user points the package at their own ALFRED
+download or dataset folder.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+__all__ = [
+    "ALFRED_DIR_ENV",
+    "DATA_DIR_ENV",
+    "FLOORPLANS_DIR_ENV",
+    "SHARED_DATA_ENV",
+    "alfred_dir",
+    "data_dir",
+    "floorplans_dir",
+    "repo_root",
+    "shared_data_dir",
+]
+
+ALFRED_DIR_ENV = "TALKDEM_ALFRED_DIR"
+FLOORPLANS_DIR_ENV = "TALKDEM_FLOORPLANS_DIR"
+SHARED_DATA_ENV = "TALKDEM_SHARED_DATA"
+DATA_DIR_ENV = "TALKDEM_DATA_DIR"
+
+
+def repo_root() -> Path:
+    """The project checkout (the folder holding `talkdem/`, `data/`, `builders/`)."""
+    return Path(__file__).resolve().parent.parent
+
+
+def shared_data_dir() -> Path:
+    """The read-only seed data: `$TALKDEM_SHARED_DATA`, else `../shared/data` beside the checkout."""
+    override = os.environ.get(SHARED_DATA_ENV)
+    return Path(override) if override else repo_root().parent / "shared" / "data"
+
+
+def alfred_dir(override: str | Path | None = None) -> Path:
+    """ALFRED `json_2.1.0/` folder: argument, then `$TALKDEM_ALFRED_DIR`, then the REI-Bench seed pool."""
+    chosen = override or os.environ.get(ALFRED_DIR_ENV)
+    return Path(chosen) if chosen else shared_data_dir() / "alfred_seed_pool" / "json_2.1.0"
+
+
+def floorplans_dir(override: str | Path | None = None) -> Path:
+    """Scene object lists (`FloorPlan<N>-objects.json`, `-openable.json`)."""
+    chosen = override or os.environ.get(FLOORPLANS_DIR_ENV)
+    return Path(chosen) if chosen else shared_data_dir() / "floorplans"
+
+
+def data_dir(override: str | Path | None = None) -> Path:
+    """The generated dataset folder (`data/`), committed with the project."""
+    chosen = override or os.environ.get(DATA_DIR_ENV)
+    return Path(chosen) if chosen else repo_root() / "data"
