@@ -34,5 +34,6 @@ def encode(texts: Sequence[str], batch_size: int = 64) -> NDArray[np.float64]:
     vectors = _model().encode(
         list(texts), batch_size=batch_size, convert_to_numpy=True, normalize_embeddings=True, show_progress_bar=False
     )
-    matrix = np.asarray(vectors, dtype=np.float64)
-    return matrix / np.linalg.norm(matrix, axis=1, keepdims=True)
+    matrix: NDArray[np.float64] = np.asarray(vectors, dtype=np.float64)
+    normalized: NDArray[np.float64] = matrix / np.linalg.norm(matrix, axis=1, keepdims=True)
+    return normalized

@@ -51,9 +51,7 @@ def mean_pairwise_similarity(similarity: NDArray[np.float64], indices: list[int]
     return float((block.sum() - np.trace(block)) / (m * (m - 1)))
 
 
-def random_subset_similarity(
-    similarity: NDArray[np.float64], k: int, draws: int, seed: int
-) -> tuple[float, float]:
+def random_subset_similarity(similarity: NDArray[np.float64], k: int, draws: int, seed: int) -> tuple[float, float]:
     """Mean and standard deviation, over `draws` random `k`-subsets, of their mean pairwise similarity."""
     rng = np.random.default_rng(seed)
     n = similarity.shape[0]

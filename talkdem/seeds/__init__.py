@@ -30,6 +30,8 @@ __all__ = [
     "SeedTask",
     "Vector3",
     "iter_seed_files",
+    "load_openable_receptacles",
+    "load_scene_objects",
     "load_seed_pool",
     "read_seed_file",
 ]

@@ -34,9 +34,7 @@ class ObjectCategories:
 @cache
 def categories() -> ObjectCategories:
     raw = json.loads((Path(__file__).parent / "categories.json").read_text())
-    return ObjectCategories(
-        **{field: tuple(raw[field]) for field in ObjectCategories.__dataclass_fields__}
-    )
+    return ObjectCategories(**{field: tuple(raw[field]) for field in ObjectCategories.__dataclass_fields__})
 
 
 def natural_name(object_type: str) -> str:

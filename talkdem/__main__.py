@@ -1,0 +1,5 @@
+import sys
+
+from talkdem.cli import main
+
+sys.exit(main())
