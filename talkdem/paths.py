@@ -12,10 +12,12 @@ from pathlib import Path
 
 __all__ = [
     "ALFRED_DIR_ENV",
+    "CACHE_DIR_ENV",
     "DATA_DIR_ENV",
     "FLOORPLANS_DIR_ENV",
     "SHARED_DATA_ENV",
     "alfred_dir",
+    "cache_dir",
     "data_dir",
     "floorplans_dir",
     "repo_root",
@@ -26,6 +28,7 @@ ALFRED_DIR_ENV = "TALKDEM_ALFRED_DIR"
 FLOORPLANS_DIR_ENV = "TALKDEM_FLOORPLANS_DIR"
 SHARED_DATA_ENV = "TALKDEM_SHARED_DATA"
 DATA_DIR_ENV = "TALKDEM_DATA_DIR"
+CACHE_DIR_ENV = "TALKDEM_CACHE_DIR"
 
 
 def repo_root() -> Path:
@@ -55,3 +58,10 @@ def data_dir(override: str | Path | None = None) -> Path:
     """The generated dataset folder (`data/`), committed with the project."""
     chosen = override or os.environ.get(DATA_DIR_ENV)
     return Path(chosen) if chosen else repo_root() / "data"
+
+
+def cache_dir() -> Path:
+    """Derived artefacts worth keeping between runs (converted models, embeddings): `$TALKDEM_CACHE_DIR`,
+    else `~/.cache/talkdem`."""
+    override = os.environ.get(CACHE_DIR_ENV)
+    return Path(override) if override else Path.home() / ".cache" / "talkdem"

@@ -1,0 +1,61 @@
+"""The one small interface every LLM backend implements."""
+
+from __future__ import annotations
+
+import hashlib
+from abc import ABC, abstractmethod
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+
+__all__ = ["LanguageModel", "ModelIdentity", "cut_at_stop", "file_sha256"]
+
+
+@dataclass(frozen=True)
+class ModelIdentity:
+    """What makes two models the same for caching and for result files."""
+
+    backend: str
+    name: str
+    """Path, model id or served model name as the user gave it."""
+    revision: str = ""
+    """A content hash of the weights file (GGUF) or the hub revision, when known."""
+
+    def key(self) -> str:
+        return f"{self.backend}:{self.name}@{self.revision}"
+
+
+class LanguageModel(ABC):
+    """A backend answers batches of requests; the planner never talks to a model any other way."""
+
+    identity: ModelIdentity
+    supports_loglikelihood: bool = True
+    """False for chat endpoints, which give no prompt log-likelihoods (planners then use generation)."""
+
+    @abstractmethod
+    def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
+        """Summed log-probabilities (nats), one per request, in request order."""
+
+    @abstractmethod
+    def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
+        """Greedy completions, one per request, cut at the request's stop strings."""
+
+
+def cut_at_stop(text: str, stop: Sequence[str]) -> str:
+    """Text up to the first stop string (stop strings never appear in a completion)."""
+    cut = len(text)
+    for marker in stop:
+        if marker and (at := text.find(marker)) != -1:
+            cut = min(cut, at)
+    return text[:cut]
+
+
+def file_sha256(path: Path, chunk: int = 1 << 20) -> str:
+    """Content hash of a weights file: the model identity must change when the weights change."""
+    digest = hashlib.sha256()
+    with path.open("rb") as handle:
+        while block := handle.read(chunk):
+            digest.update(block)
+    return digest.hexdigest()

@@ -1,0 +1,147 @@
+"""Local transformers causal LMs: a model folder, a model id already on disk, or a GGUF file.
+
+GGUF files are de-quantized by transformers at load (about 20 s for SmolLM2-135M on 2 cores); the
+float32 result is kept under the cache folder, keyed by the file's content hash, so later loads take
+seconds.
+"""
+
+from __future__ import annotations
+
+import os
+from collections import defaultdict
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256
+from talkdem.llm.default_model import DEFAULT_MODEL_NAME, default_model_path
+from talkdem.llm.prefix_scorer import PrefixCachedScorer, naive_scores
+from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.paths import cache_dir
+
+__all__ = ["HFCausalLM"]
+
+
+def _resolve(model: str) -> Path | str:
+    if model in (DEFAULT_MODEL_NAME, "default"):
+        return default_model_path()
+    path = Path(model).expanduser()
+    return path if path.exists() else model
+
+
+class HFCausalLM(LanguageModel):
+    """A transformers causal LM on CPU (or `device`), float32 by default for exact scores."""
+
+    def __init__(
+        self,
+        model: str,
+        device: str = "cpu",
+        dtype: str = "float32",
+        threads: int | None = None,
+        chat_template: bool = True,
+        max_packed_tokens: int = 2048,
+    ) -> None:
+        import torch
+
+        os.environ.setdefault("HF_HUB_OFFLINE", "1")
+        if threads:
+            torch.set_num_threads(threads)
+        torch.manual_seed(0)
+        source = _resolve(model)
+        self.device = device
+        torch_dtype = getattr(torch, dtype)
+        if isinstance(source, Path) and source.suffix == ".gguf":
+            revision = file_sha256(source)
+            self.model, self.tokenizer = _load_gguf(source, revision, torch_dtype)
+        else:
+            from transformers import AutoModelForCausalLM, AutoTokenizer
+
+            revision = ""
+            self.tokenizer = AutoTokenizer.from_pretrained(str(source))
+            self.model = AutoModelForCausalLM.from_pretrained(str(source), dtype=torch_dtype)
+        self.model.to(device)
+        self.model.eval()
+        name = DEFAULT_MODEL_NAME if model in (DEFAULT_MODEL_NAME, "default") else str(source)
+        self.identity = ModelIdentity(backend="hf", name=name, revision=revision)
+        self.use_chat_template = chat_template and bool(getattr(self.tokenizer, "chat_template", None))
+        self.scorer = PrefixCachedScorer(self.model, max_packed_tokens=max_packed_tokens)
+
+    # -- tokenization, done once and centrally -------------------------------------------------------
+    def encode(self, text: str) -> list[int]:
+        ids: list[int] = self.tokenizer(text, add_special_tokens=False).input_ids
+        return ids
+
+    def _context_ids(self, context: str) -> list[int]:
+        ids = self.encode(context)
+        bos = self.tokenizer.bos_token_id
+        # Models trained with a BOS token expect it; SmolLM2 has none in its GGUF metadata by default.
+        if bos is not None and getattr(self.tokenizer, "add_bos_token", False):
+            ids = [bos, *ids]
+        return ids
+
+    # -- the interface --------------------------------------------------------------------------------
+    def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
+        """Fast path: every continuation of one context in one packed pass over the cached prefix."""
+        return self.scorer.score(self._context_ids(context), [self.encode(c) for c in continuations])
+
+    def naive_score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
+        """Reference path: one full forward pass per continuation."""
+        return naive_scores(self.model, self._context_ids(context), [self.encode(c) for c in continuations])
+
+    def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
+        by_context: dict[str, list[int]] = defaultdict(list)
+        for i, request in enumerate(requests):
+            by_context[request.context].append(i)
+        results = [0.0] * len(requests)
+        for context, indices in by_context.items():
+            scores = self.score_continuations(context, [requests[i].continuation for i in indices])
+            for i, score in zip(indices, scores, strict=True):
+                results[i] = score
+        return results
+
+    def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
+        import torch
+
+        outputs = []
+        for request in requests:
+            if self.use_chat_template:
+                text = self.tokenizer.apply_chat_template(
+                    [{"role": "user", "content": request.prompt}], tokenize=False, add_generation_prompt=True
+                )
+                ids = self.encode(text)
+            else:
+                ids = self._context_ids(request.prompt)
+            with torch.no_grad():
+                generated = self.model.generate(
+                    input_ids=torch.tensor([ids], device=self.device),
+                    attention_mask=torch.ones(1, len(ids), dtype=torch.long, device=self.device),
+                    max_new_tokens=request.max_new_tokens,
+                    do_sample=False,
+                    pad_token_id=self.tokenizer.eos_token_id,
+                )
+            text_out = self.tokenizer.decode(generated[0, len(ids) :], skip_special_tokens=True)
+            outputs.append(cut_at_stop(text_out, request.stop).strip())
+        return outputs
+
+
+def _load_gguf(path: Path, revision: str, torch_dtype: Any) -> tuple[Any, Any]:
+    from transformers import AutoModelForCausalLM, AutoTokenizer
+
+    converted = cache_dir() / "hf-from-gguf" / f"{path.stem}-{revision[:16]}"
+    if (converted / "config.json").is_file():
+        return (
+            AutoModelForCausalLM.from_pretrained(str(converted), dtype=torch_dtype),
+            AutoTokenizer.from_pretrained(str(converted)),
+        )
+    tokenizer = AutoTokenizer.from_pretrained(str(path.parent), gguf_file=path.name)
+    model: Any = AutoModelForCausalLM.from_pretrained(str(path.parent), gguf_file=path.name, dtype=torch_dtype)
+    # transformers refuses to save a model it still marks as GGUF-quantized; the weights are plain tensors
+    # after de-quantization, so drop the marker and save them.
+    model.hf_quantizer = None
+    if hasattr(model.config, "quantization_config"):
+        del model.config.quantization_config
+    partial = converted.with_name(converted.name + ".partial")
+    model.save_pretrained(str(partial))
+    tokenizer.save_pretrained(str(partial))
+    partial.rename(converted)  # atomic: a killed conversion never leaves a half-written cache
+    return model, tokenizer
