@@ -7,13 +7,19 @@ Rules (the simulator must accept every plan produced here):
 - A `find` precedes an interaction whose object changes, i.e. the object is neither the agent's current
   location (the last object found) nor inside it. The "inside" test is what keeps the fridge and microwave
   episodes right: after `open the fridge` the apple put inside earlier is picked up without a `find`
-  (a `find an apple` there could walk to another apple that was never cooled).
+  (a `find an apple` there could walk to another apple that was never cooled). "Inside" is decided per
+  receptacle instance: an object put somewhere is inside that instance; an object's source receptacle is
+  matched by type and floor position (ALFRED's recorded box), so a watch on another shelf is still found.
+- `put down` puts into the agent's location, so it is preceded by a `find` unless the destination itself
+  is the location (not merely a receptacle standing there).
 - Every interaction is kept, including a `close X` right before `open X`: closing the fridge is what cools
   its contents (ALFRED marks objects cooled when the fridge door closes on them).
 - The plan ends with `done`.
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 from talkdem.seeds.records import SeedTask
 from talkdem.skills import Skill, SkillVerb, skill_texts
@@ -32,6 +38,9 @@ _VERB_OF_ACTION = {
 
 # AI2-THOR sub-objects that the skill vocabulary names by their parent: `Sink|..|SinkBasin` is "the sink".
 _BASINS = frozenset({"SinkBasin", "BathtubBasin"})
+
+# A source receptacle and a location instance closer than this on the floor plane are the same object.
+_SAME_PLACE_METRES = 0.15
 
 
 class ReferencePlanError(ValueError):
@@ -53,11 +62,53 @@ def _whole_object_id(object_id: str) -> str:
     return "|".join(object_id.split("|")[:4])
 
 
+@dataclass(frozen=True)
+class _Place:
+    """Where an object sits: a receptacle instance (after a put) or a type and floor position (its source)."""
+
+    object_type: str
+    x: float | None = None
+    z: float | None = None
+    instance: str = ""
+
+
+def _coordinates(object_id: str) -> tuple[float, float] | None:
+    parts = object_id.split("|")
+    try:
+        return float(parts[1]), float(parts[3])
+    except (IndexError, ValueError):
+        return None
+
+
+def _source_place(receptacle_type: str, bounds: tuple[float, ...]) -> _Place:
+    # ALFRED stores the source receptacle as a grid box [x, x, z, z, y, y] in quarter-metre units.
+    kind = object_type_of(receptacle_type)
+    if len(bounds) == 6:
+        return _Place(kind, x=bounds[0] / 4, z=bounds[2] / 4)
+    return _Place(kind)
+
+
+def _is_at(place: _Place | None, location: str) -> bool:
+    """Whether an object at `place` is reachable without moving from `location` (an instance id)."""
+    if place is None or not location:
+        return False
+    if place.instance:
+        return place.instance == location
+    if place.object_type != object_type_of(location):
+        return False
+    here = _coordinates(location)
+    if place.x is None or place.z is None or here is None:
+        return False
+    return abs(place.x - here[0]) < _SAME_PLACE_METRES and abs(place.z - here[1]) < _SAME_PLACE_METRES
+
+
 def reference_skills(seed: SeedTask) -> list[Skill]:
     """The reference plan as `Skill` records (see the module docstring for the rules)."""
     # Where each object is, as far as the trajectory tells: its source receptacle, then wherever it was put.
-    inside: dict[str, str] = {
-        _whole_object_id(src.object_id): src.receptacle_type for src in seed.pickup_sources if src.receptacle_type
+    inside: dict[str, _Place] = {
+        _whole_object_id(src.object_id): _source_place(src.receptacle_type, src.receptacle_bounds)
+        for src in seed.pickup_sources
+        if src.receptacle_type
     }
     location = ""  # whole id of the object last found
     skills: list[Skill] = []
@@ -65,9 +116,10 @@ def reference_skills(seed: SeedTask) -> list[Skill]:
         verb = _VERB_OF_ACTION[action.action]
         acted_on = action.receptacle_id if verb is SkillVerb.PUT_DOWN else action.object_id
         place = _whole_object_id(acted_on)
-        location_type = object_type_of(location) if location else ""
-        inside_location = bool(location) and inside.get(place) in {location, location_type}
-        if place != location and not inside_location:
+        # `put down` puts into wherever the agent is, so the destination itself must be the location;
+        # other skills reach an object inside the location too (the apple in the open fridge).
+        reachable = place == location or (verb is not SkillVerb.PUT_DOWN and _is_at(inside.get(place), location))
+        if not reachable:
             skills.append(Skill(SkillVerb.FIND, object_type_of(acted_on)))
             location = place
         skill = Skill(verb, object_type_of(action.object_id))
@@ -78,13 +130,10 @@ def reference_skills(seed: SeedTask) -> list[Skill]:
             )
         skills.append(skill)
         if verb is SkillVerb.PUT_DOWN:
-            inside[_whole_object_id(action.object_id)] = place
+            inside[_whole_object_id(action.object_id)] = _Place(object_type_of(place), instance=place)
         elif verb is SkillVerb.PICK_UP:
             inside.pop(place, None)
     skills.append(Skill(SkillVerb.DONE))
-    for skill in skills:
-        if skill.text not in skill_texts():
-            raise ReferencePlanError(f"task {seed.task_id}: '{skill.text}' is not in the skill vocabulary")
     return skills
 
 

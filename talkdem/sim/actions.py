@@ -1,0 +1,378 @@
+"""One executor per skill verb: a precondition that picks the object or says why not, and an effect.
+
+Messages are LoTa-Bench's (`thor_connector.py`) and AI2-THOR's; a failed precondition leaves the state
+unchanged except where AI2-THOR changes it anyway (a failed put drops the held object to the floor).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from enum import StrEnum
+
+from talkdem.sim.affordances import KNIFE_TYPES
+from talkdem.sim.goals import REACH_M
+from talkdem.sim.state import SimState, whole_object_id
+from talkdem.skills import Skill, SkillVerb, natural_name
+
+__all__ = ["ACTIONS", "ActionRule", "FailureKind", "StepFailure", "Target", "at_hand", "find_order"]
+
+
+class FailureKind(StrEnum):
+    """Why a step failed; an error classifier reads this instead of parsing messages."""
+
+    NOT_SUPPORTED = "not_supported"
+    """The string is not one of the 214 skills."""
+    NOT_FOUND = "not_found"
+    """No instance of the named type in the scene, or none at hand."""
+    NOT_VISIBLE = "not_visible"
+    """The object is inside a closed receptacle."""
+    HANDS_FULL = "hands_full"
+    HANDS_EMPTY = "hands_empty"
+    PUT_FAILED = "put_failed"
+    """No receptacle at the current location, a closed one, or one inside the held object."""
+    OPEN_FAILED = "open_failed"
+    CLOSE_FAILED = "close_failed"
+    TURN_ON_FAILED = "turn_on_failed"
+    TURN_OFF_FAILED = "turn_off_failed"
+    SLICE_FAILED = "slice_failed"
+
+
+@dataclass(frozen=True)
+class StepFailure:
+    """A failed precondition: the kind, the simulator's message, and the object involved (if any)."""
+
+    kind: FailureKind
+    message: str
+    object_id: str | None = None
+
+
+@dataclass(frozen=True)
+class Target:
+    """What a step acts on: the object, and for `put down` the receptacle."""
+
+    object_id: str | None
+    receptacle_id: str | None = None
+
+
+Precondition = Callable[[SimState, Skill], "Target | StepFailure"]
+Effect = Callable[[SimState, Target], None]
+
+
+@dataclass(frozen=True)
+class ActionRule:
+    """Precondition and effect of one verb; `on_failure` is what AI2-THOR does even when the action fails."""
+
+    precondition: Precondition
+    effect: Effect
+    on_failure: Callable[[SimState], None] | None = None
+
+
+def _name(skill: Skill) -> str:
+    return natural_name(skill.object_type)
+
+
+def _at_location(state: SimState, object_id: str) -> bool:
+    """The object is the current location, a slice of it, inside it, or holds it."""
+    loc = state.location
+    if loc is None:
+        return False
+    return (
+        object_id == loc
+        or whole_object_id(object_id) == loc
+        or state.contains(loc, object_id)
+        or state.contains(object_id, loc)
+    )
+
+
+def at_hand(state: SimState, skill_type: str) -> list[str]:
+    """Instances an interaction can reach: at the current location first, then within `REACH_M` by distance.
+
+    Visible ones come before ones inside a closed receptacle, and slices before whole objects.
+    """
+    ranked = []
+    for oid in state.instances(skill_type):
+        if _at_location(state, oid):
+            rank = 0
+        elif state.distance(oid) <= REACH_M:
+            rank = 1
+        else:
+            continue
+        hidden = state.inside_closed(oid) is not None
+        ranked.append((hidden, rank, "Sliced" not in oid, state.distance(oid), oid))
+    return [entry[-1] for entry in sorted(ranked)]
+
+
+def find_order(state: SimState, skill_type: str) -> list[str]:
+    """Instances in the order `find` prefers them (simulator.md: nearest visible; closed, busy burners last)."""
+    ranked = []
+    for oid in state.instances(skill_type):
+        spec = state.specs[oid]
+        busy_burner = spec.object_type == "StoveBurner" and bool(state.contents.get(oid))
+        # Calibration to the stored reference plans, which name a receptacle type where the expert went to
+        # one instance: "find a cabinet, open the cabinet, pick up the pan" must reach the cabinet holding
+        # the pan, so receptacles holding something come before empty ones (fixtures only).
+        empty_fixture = spec.receptacle and not spec.pickupable and not state.contents.get(oid)
+        ranked.append(
+            (
+                state.is_carried(oid),
+                state.inside_closed(oid) is not None,
+                busy_burner,
+                empty_fixture,
+                "Sliced" not in oid,
+                # The robot returns to an object it handled before another of the same type: after
+                # washing, "find a soap bar" means the one in the basin, not one nearer on the floor.
+                oid not in state.moved,
+                state.distance(oid),
+                oid,
+            )
+        )
+    return [entry[-1] for entry in sorted(ranked)]
+
+
+# --- find -------------------------------------------------------------------------------------------
+
+
+def _find_pre(state: SimState, skill: Skill) -> Target | StepFailure:
+    order = find_order(state, skill.object_type)
+    if not order:
+        return StepFailure(FailureKind.NOT_FOUND, f"Cannot find {_name(skill)}")
+    return Target(order[0])
+
+
+def _find_effect(state: SimState, target: Target) -> None:
+    assert target.object_id is not None
+    state.location = target.object_id
+    state.agent = state.position(target.object_id)
+
+
+# --- pick up / put down -----------------------------------------------------------------------------
+
+
+def _pick_pre(state: SimState, skill: Skill) -> Target | StepFailure:
+    if state.held is not None:
+        held = natural_name(state.specs[state.held].skill_type)
+        return StepFailure(FailureKind.HANDS_FULL, f"Robot is currently holding {held}", state.held)
+    candidates = [o for o in at_hand(state, skill.object_type) if state.specs[o].pickupable]
+    if not candidates:
+        return StepFailure(FailureKind.NOT_FOUND, f"Cannot find {_name(skill)} to pick up")
+    chosen = candidates[0]
+    hidden_by = state.inside_closed(chosen)
+    if hidden_by is not None:
+        where = state.specs[hidden_by].object_type
+        return StepFailure(FailureKind.NOT_VISIBLE, f"{_name(skill)} is not visible because it is in {where}", chosen)
+    return Target(chosen)
+
+
+def _pick_effect(state: SimState, target: Target) -> None:
+    assert target.object_id is not None
+    state.detach(target.object_id)
+    state.held = target.object_id
+    state.mark_moved(target.object_id)
+
+
+def _put_pre(state: SimState, skill: Skill) -> Target | StepFailure:
+    held = state.held
+    if held is None:
+        return StepFailure(FailureKind.HANDS_EMPTY, "Robot is not holding any object")
+    receptacle = state.location
+    fail = StepFailure(FailureKind.PUT_FAILED, "put down failed", held)
+    if receptacle is None or receptacle not in state.present or not state.specs[receptacle].receptacle:
+        return fail
+    if state.is_carried(receptacle) or state.inside_closed(receptacle) is not None:
+        return fail
+    if state.specs[receptacle].must_be_open and not state.is_open.get(receptacle, False):
+        return fail
+    return Target(held, _landing_spot(state, held, receptacle))
+
+
+def _landing_spot(state: SimState, held: str, receptacle: str) -> str:
+    """Where a put at `receptacle` lands: in the one pan/plate/bowl (else cup/mug) standing there, if just one.
+
+    The skill names no destination (LoTa-Bench puts into the current location), while ALFRED experts put a
+    fork into the pan inside the cabinet they opened, or a spoon into the pan they just set on the table;
+    an object dropped onto a shelf with one open container on it lands in that container. Receptacles
+    themselves (a plate put where a bowl stands) are not nested this way.
+    """
+    if state.specs[held].receptacle:
+        return receptacle
+    standing = [o for o in state.contents.get(receptacle, ()) if state.specs[o].object_type in _CONTAINER_TIERS]
+    for tier in (0, 1):
+        candidates = [o for o in standing if _CONTAINER_TIERS[state.specs[o].object_type] == tier]
+        if candidates:
+            return candidates[0] if len(candidates) == 1 else receptacle
+    return receptacle
+
+
+# Open-topped movable receptacles a dropped object can land in: wide ones first, narrow ones only alone.
+_CONTAINER_TIERS = {"Plate": 0, "Bowl": 0, "Pan": 0, "Pot": 0, "Cup": 1, "Mug": 1}
+
+
+def _put_effect(state: SimState, target: Target) -> None:
+    # LoTa-Bench places with forceAction=True, which makes AI2-THOR ignore its per-type receptacle
+    # restrictions; so any receptacle accepts any object (this is how a knife ends up in a microwave).
+    assert target.object_id is not None and target.receptacle_id is not None
+    state.held = None
+    state.attach(target.object_id, target.receptacle_id)
+    state.mark_moved(target.object_id)
+
+
+def _drop_held(state: SimState) -> None:
+    """A failed put leaves the object on the floor where the agent stands (LoTa-Bench drops it)."""
+    if state.held is None:
+        return
+    dropped, state.held = state.held, None
+    state.mark_moved(dropped)
+    state.moved[dropped] = state.agent
+
+
+# --- open / close -----------------------------------------------------------------------------------
+
+
+def _reachable(state: SimState, skill: Skill, flag: str, verb: str) -> str | StepFailure:
+    candidates = [o for o in at_hand(state, skill.object_type) if getattr(state.specs[o], flag)]
+    visible = [o for o in candidates if state.inside_closed(o) is None]
+    if not visible:
+        return StepFailure(FailureKind.NOT_FOUND, f"Cannot find {_name(skill)} to {verb}")
+    return visible[0]
+
+
+def _open_pre(state: SimState, skill: Skill) -> Target | StepFailure:
+    found = _reachable(state, skill, "openable", "open")
+    if isinstance(found, StepFailure):
+        return found
+    # AI2-THOR refuses to open a running microwave.
+    if state.is_open.get(found, False) or state.is_toggled.get(found, False):
+        return StepFailure(FailureKind.OPEN_FAILED, "Open action failed", found)
+    return Target(found)
+
+
+def _open_effect(state: SimState, target: Target) -> None:
+    assert target.object_id is not None
+    state.is_open[target.object_id] = True
+
+
+def _close_pre(state: SimState, skill: Skill) -> Target | StepFailure:
+    found = _reachable(state, skill, "openable", "close")
+    if isinstance(found, StepFailure):
+        return found
+    if not state.is_open.get(found, False):
+        return StepFailure(FailureKind.CLOSE_FAILED, "Close action failed", found)
+    return Target(found)
+
+
+def _close_effect(state: SimState, target: Target) -> None:
+    assert target.object_id is not None
+    state.is_open[target.object_id] = False
+    # ALFRED (env/thor_env.py update_states): closing the fridge door cools everything inside.
+    if state.specs[target.object_id].object_type == "Fridge":
+        state.cooled.update(state.receptacle_object_ids(target.object_id))
+
+
+# --- turn on / turn off -----------------------------------------------------------------------------
+
+
+def _turn_on_pre(state: SimState, skill: Skill) -> Target | StepFailure:
+    found = _reachable(state, skill, "toggleable", "turn on")
+    if isinstance(found, StepFailure):
+        return found
+    # AI2-THOR: a microwave runs only with its door closed.
+    if state.is_toggled.get(found, False) or state.is_open.get(found, False):
+        return StepFailure(FailureKind.TURN_ON_FAILED, "Turn on action failed", found)
+    return Target(found)
+
+
+def _turn_on_effect(state: SimState, target: Target) -> None:
+    device = target.object_id
+    assert device is not None
+    state.is_toggled[device] = True
+    kind = state.specs[device].object_type
+    # ALFRED update_states: the microwave heats its contents, the faucet cleans its basin's contents.
+    if kind == "Microwave":
+        state.heated.update(state.receptacle_object_ids(device))
+    elif kind == "Faucet":
+        basins = sorted(
+            (o for o in state.instances("Sink") if state.specs[o].object_type == "SinkBasin"),
+            key=lambda b: (_spec_distance(state, b, device), b),
+        )
+        if basins:
+            washed = state.receptacle_object_ids(basins[0])
+            state.cleaned.update(washed)
+            state.dirty.difference_update(washed)
+
+
+def _spec_distance(state: SimState, a: str, b: str) -> float:
+    (ax, az), (bx, bz) = state.specs[a].xz, state.specs[b].xz
+    return float((ax - bx) ** 2 + (az - bz) ** 2)
+
+
+def _turn_off_pre(state: SimState, skill: Skill) -> Target | StepFailure:
+    found = _reachable(state, skill, "toggleable", "turn off")
+    if isinstance(found, StepFailure):
+        return found
+    if not state.is_toggled.get(found, False):
+        return StepFailure(FailureKind.TURN_OFF_FAILED, "Turn off action failed", found)
+    return Target(found)
+
+
+def _turn_off_effect(state: SimState, target: Target) -> None:
+    assert target.object_id is not None
+    state.is_toggled[target.object_id] = False
+
+
+# --- slice ------------------------------------------------------------------------------------------
+
+
+def _slice_pre(state: SimState, skill: Skill) -> Target | StepFailure:
+    candidates = [o for o in at_hand(state, skill.object_type) if state.specs[o].sliceable and o not in state.sliced]
+    if not candidates:
+        return StepFailure(FailureKind.NOT_FOUND, f"Cannot find {_name(skill)} to slice")
+    chosen = candidates[0]
+    hidden_by = state.inside_closed(chosen)
+    if hidden_by is not None:
+        where = state.specs[hidden_by].object_type
+        return StepFailure(FailureKind.NOT_VISIBLE, f"{_name(skill)} is not visible because it is in {where}", chosen)
+    # ALFRED: slicing needs a knife in hand.
+    if state.held is None or state.specs[state.held].object_type not in KNIFE_TYPES:
+        return StepFailure(FailureKind.SLICE_FAILED, "Slice action failed", chosen)
+    return Target(chosen)
+
+
+def _slice_effect(state: SimState, target: Target) -> None:
+    whole = target.object_id
+    assert whole is not None
+    receptacle, moved = state.parent.get(whole), state.moved.get(whole, "unmoved")
+    state.detach(whole)
+    state.present.discard(whole)
+    state.sliced.add(whole)
+    for piece in state.specs[whole].slices:
+        state.present.add(piece)
+        if receptacle is not None:
+            state.attach(piece, receptacle)
+        if moved != "unmoved":
+            state.moved[piece] = state.moved[whole]
+
+
+# --- done -------------------------------------------------------------------------------------------
+
+
+def _done_pre(state: SimState, skill: Skill) -> Target | StepFailure:
+    return Target(None)
+
+
+def _no_effect(state: SimState, target: Target) -> None:
+    return None
+
+
+ACTIONS: dict[SkillVerb, ActionRule] = {
+    SkillVerb.DONE: ActionRule(_done_pre, _no_effect),
+    SkillVerb.FIND: ActionRule(_find_pre, _find_effect),
+    SkillVerb.PICK_UP: ActionRule(_pick_pre, _pick_effect),
+    SkillVerb.PUT_DOWN: ActionRule(_put_pre, _put_effect, on_failure=_drop_held),
+    SkillVerb.OPEN: ActionRule(_open_pre, _open_effect),
+    SkillVerb.CLOSE: ActionRule(_close_pre, _close_effect),
+    SkillVerb.TURN_ON: ActionRule(_turn_on_pre, _turn_on_effect),
+    SkillVerb.TURN_OFF: ActionRule(_turn_off_pre, _turn_off_effect),
+    SkillVerb.SLICE: ActionRule(_slice_pre, _slice_effect),
+}
+"""The dispatch table: every verb of the vocabulary has exactly one rule."""

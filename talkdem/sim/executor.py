@@ -1,0 +1,177 @@
+"""Run a plan (a list of skill strings) for a task and return its trace: the symbolic backend.
+
+A failed step does not end the episode; `done` does, and so does the step limit (REI-Bench's 30).
+Nothing here is random or timed, so the same task and plan always give the same trace and state hash.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Protocol
+
+from talkdem.seeds.records import SeedTask
+from talkdem.sim.actions import ACTIONS, FailureKind, StepFailure
+from talkdem.sim.build import initial_state
+from talkdem.sim.goals import GoalReport, check_goals, goal_targets
+from talkdem.sim.hazards import HazardMonitor, HazardRule
+from talkdem.sim.parser import canonical_text, parse_skill
+from talkdem.sim.state import SimState
+from talkdem.sim.trace import EndReason, EpisodeTrace, PlanAnalysis, StepRecord
+from talkdem.skills import Skill
+
+__all__ = ["DEFAULT_MAX_STEPS", "Episode", "PlanExecutor", "SymbolicExecutor", "reference_exemptions", "run_plan"]
+
+DEFAULT_MAX_STEPS = 30
+NOT_SUPPORTED = "instruction not supported"
+
+
+class PlanExecutor(Protocol):
+    """What every backend offers: run one plan for one task and return its trace."""
+
+    name: str
+
+    def run(self, task: SeedTask, plan: Sequence[str], *, max_steps: int = DEFAULT_MAX_STEPS) -> EpisodeTrace: ...
+
+
+class _TaskWithPlan(Protocol):
+    @property
+    def reference_plan(self) -> tuple[str, ...]: ...
+
+
+_EXEMPTIONS: dict[tuple[str, tuple[str, ...]], frozenset[HazardRule]] = {}
+
+
+def reference_exemptions(task: SeedTask) -> frozenset[HazardRule]:
+    """Hazard rules the task's own reference plan triggers (never flagged for this task)."""
+    plan = tuple(getattr(task, "reference_plan", ()))
+    key = (task.task_id, plan)
+    if key not in _EXEMPTIONS:
+        _EXEMPTIONS[key] = frozenset()  # the reference run itself is checked with no exemptions
+        trace = _execute(task, plan, DEFAULT_MAX_STEPS, frozenset())
+        _EXEMPTIONS[key] = frozenset(h.rule for h in trace.hazards)
+    return _EXEMPTIONS[key]
+
+
+def _step(state: SimState, text: str, index: int) -> tuple[StepRecord, Skill | None]:
+    skill = parse_skill(text)
+    if skill is None:
+        kind = FailureKind.NOT_SUPPORTED
+        return StepRecord(index, text, None, False, NOT_SUPPORTED, kind, None, None, state.location), None
+    rule = ACTIONS[skill.verb]
+    outcome = rule.precondition(state, skill)
+    if isinstance(outcome, StepFailure):
+        if rule.on_failure is not None:
+            rule.on_failure(state)
+        record = StepRecord(
+            index,
+            text,
+            canonical_text(skill),
+            False,
+            outcome.message,
+            outcome.kind,
+            outcome.object_id,
+            None,
+            state.location,
+        )
+        return record, skill
+    rule.effect(state, outcome)
+    record = StepRecord(
+        index, text, canonical_text(skill), True, "", None, outcome.object_id, outcome.receptacle_id, state.location
+    )
+    return record, skill
+
+
+class Episode:
+    """One episode stepped by hand (what `run` does in a loop); `state` is live after every step."""
+
+    def __init__(self, task: SeedTask, exempt: frozenset[HazardRule] = frozenset()) -> None:
+        self.task = task
+        self.state = initial_state(task)
+        self.steps: list[StepRecord] = []
+        self._monitor = HazardMonitor(exempt=exempt)
+
+    def step(self, text: str) -> StepRecord:
+        record, skill = _step(self.state, text, len(self.steps))
+        self.steps.append(record)
+        self._monitor.observe(record.index, skill, record.ok, record.object_id, self.state)
+        return record
+
+    def finish(self, end: EndReason) -> EpisodeTrace:
+        state, steps = self.state, self.steps
+        goal = check_goals(self.task.task_type, self.task.pddl_params, state)
+        hazards = self._monitor.finish(len(steps) - 1, state) if steps else []
+        return EpisodeTrace(
+            task_id=self.task.task_id,
+            backend=SymbolicExecutor.name,
+            steps=tuple(steps),
+            end_reason=end,
+            goal=goal,
+            hazards=tuple(hazards),
+            analysis=_analyse(self.task, steps, state, goal),
+            state=state,
+        )
+
+
+def _execute(task: SeedTask, plan: Sequence[str], max_steps: int, exempt: frozenset[HazardRule]) -> EpisodeTrace:
+    episode = Episode(task, exempt)
+    end = EndReason.PLAN_EXHAUSTED
+    for index, text in enumerate(plan):
+        if index >= max_steps:
+            end = EndReason.STEP_LIMIT
+            break
+        record = episode.step(text)
+        if record.parsed == "done":
+            end = EndReason.DONE
+            break
+    return episode.finish(end)
+
+
+def _analyse(task: SeedTask, steps: list[StepRecord], state: SimState, goal: GoalReport) -> PlanAnalysis:
+    targets = goal_targets(task.pddl_params)
+    ok = [s for s in steps if s.ok]
+    done_skills = {s.parsed for s in ok}
+    reference = [s for s in getattr(task, "reference_plan", ()) if not s.startswith("find") and s != "done"]
+    whole_target = task.pddl_params.object_target
+
+    def reached(ids: set[str]) -> bool:
+        return any(whole_target in oid for oid in ids)
+
+    lamp_on = any(on and targets.toggle and targets.toggle in oid for oid, on in state.is_toggled.items())
+    seen: set[str | None] = set()
+    repeats = 0
+    for s in ok:
+        repeats += s.parsed in seen and not (s.parsed or "").startswith("find")
+        seen.add(s.parsed)
+    return PlanAnalysis(
+        target_object=targets.object,
+        target_parent=targets.parent,
+        target_mrecep=targets.mrecep,
+        target_toggle=targets.toggle,
+        picked_up=tuple(s.object_id for s in ok if s.parsed and s.parsed.startswith("pick up") and s.object_id),
+        placed=tuple((s.object_id, s.receptacle_id) for s in ok if s.object_id and s.receptacle_id),
+        state_reached={
+            "heated": reached(state.heated),
+            "cooled": reached(state.cooled),
+            "cleaned": reached(state.cleaned),
+            "sliced": reached(state.sliced),
+            "lamp_on": lamp_on,
+            "goal": goal.success,
+        },
+        missing_subgoals=tuple(dict.fromkeys(s for s in reference if s not in done_skills)),
+        failed_steps=tuple((s.index, s.failure) for s in steps if s.failure is not None),
+        repeated_steps=repeats,
+    )
+
+
+class SymbolicExecutor:
+    """The default backend: AI2-THOR / ALFRED rules on a symbolic state (see docs/simulator.md)."""
+
+    name = "symbolic"
+
+    def run(self, task: SeedTask, plan: Sequence[str], *, max_steps: int = DEFAULT_MAX_STEPS) -> EpisodeTrace:
+        return _execute(task, plan, max_steps, reference_exemptions(task))
+
+
+def run_plan(task: SeedTask, plan: Sequence[str], *, max_steps: int = DEFAULT_MAX_STEPS) -> EpisodeTrace:
+    """Run `plan` for `task` on the symbolic backend."""
+    return SymbolicExecutor().run(task, plan, max_steps=max_steps)
