@@ -104,7 +104,11 @@ class PrefixCachedScorer:
         _crop(self._cache, keep)
         feed = torch.tensor([list(context_ids[keep:])])
         positions = torch.arange(keep, len(context_ids))[None]
-        out = self.model(input_ids=feed, past_key_values=self._cache, position_ids=positions, use_cache=True)
+        # Only the last position's logits are needed: skipping the vocabulary projection of the others saves
+        # a large share of a long prefix pass.
+        out = self.model(
+            input_ids=feed, past_key_values=self._cache, position_ids=positions, use_cache=True, logits_to_keep=1
+        )
         self._cached_ids = list(context_ids)
         self._next_logprobs = torch.log_softmax(out.logits[0, -1].float(), dim=-1)
         return self._next_logprobs

@@ -1,0 +1,361 @@
+"""Build the TALK-Dem dataset under `data/`: generate, verify, regenerate, write Parquet and the card.
+
+The unit of work is one task: its clean control and fifteen pattern variants, each verified and
+regenerated up to two more times when it fails (paper, appendix "Rule-Constrained Generation"). Finished
+units are appended to a JSONL checkpoint (one line each, flushed), so a build killed at any
+point, `kill -9` included, resumes where it stopped; every request has its own seed, so the resumed result
+is byte-identical to an uninterrupted one. A truncated last line (a kill mid-write) is dropped with a warning.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+import warnings
+from collections import Counter
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from builders.generation import CLEAN, GenerationRequest, Generator, derive_seed, get_generator
+from builders.interpretation import interpretation
+from builders.verification import verify
+from talkdem.paths import data_dir, repo_root
+from talkdem.tasks import Task, TaskSet, load_tasks
+
+__all__ = [
+    "MAX_ATTEMPTS",
+    "BuildResult",
+    "CheckpointWarning",
+    "build",
+    "dataset_files",
+    "default_checkpoint",
+    "read_checkpoint",
+    "verification_stats",
+]
+
+MAX_ATTEMPTS = 3
+"""First attempt plus up to two regenerations."""
+CHECKPOINT_FORMAT = 1
+
+
+class CheckpointWarning(UserWarning):
+    """A checkpoint was repaired or discarded."""
+
+
+@dataclass(frozen=True)
+class BuildResult:
+    folder: Path
+    files: tuple[Path, ...]
+    stats: dict[str, Any]
+    resumed_units: int
+    """Units taken from an existing checkpoint instead of being generated again."""
+
+
+def default_checkpoint(generator: str, seed: int) -> Path:
+    return repo_root() / ".cache" / "build" / f"checkpoint-{generator}-seed{seed}.jsonl"
+
+
+# --- one unit ------------------------------------------------------------------------------------------------
+def _patterns() -> tuple[str, ...]:
+    from talk_dem import PATTERNS
+
+    return tuple(PATTERNS)
+
+
+def _generate_verified(
+    generator: Generator, requests: list[tuple[Task, str, int, str]], base_seed: int
+) -> list[tuple[str, dict[str, Any], int]]:
+    """(text, verification, seed) per request: regenerate failures, in batches, up to MAX_ATTEMPTS."""
+    results: list[tuple[str, dict[str, Any], int] | None] = [None] * len(requests)
+    pending = list(range(len(requests)))
+    for attempt in range(1, MAX_ATTEMPTS + 1):
+        batch = [
+            GenerationRequest(task, pattern, level, clean, derive_seed(base_seed, task.task_id, pattern, level, attempt))
+            for task, pattern, level, clean in (requests[i] for i in pending)
+        ]
+        texts = generator.generate(batch)
+        still = []
+        for i, request, text in zip(pending, batch, texts, strict=True):
+            check = verify(request.task, request.pattern, request.level, text)
+            results[i] = (text, {**check, "attempts": attempt}, request.seed)
+            if not check["passed"]:
+                still.append(i)
+        pending = still
+        if not pending:
+            break
+    return [r for r in results if r is not None]
+
+
+def build_unit(generator: Generator, task: Task, base_seed: int) -> list[dict[str, Any]]:
+    """The 16 rows of one task: its clean control, then each pattern at levels 1-3."""
+    ((clean, clean_check, clean_seed),) = _generate_verified(generator, [(task, CLEAN, 0, "")], base_seed)
+    variants = [(task, p, lvl, clean) for p in _patterns() for lvl in (1, 2, 3)]
+    generated = [(CLEAN, 0, clean, clean_check, clean_seed)] + [
+        (p, lvl, text, check, seed)
+        for (_, p, lvl, _), (text, check, seed) in zip(
+            variants, _generate_verified(generator, variants, base_seed), strict=True
+        )
+    ]
+    params = task.pddl_params
+    return [
+        {
+            "id": f"{task.task_id}:{pattern}:{level}",
+            "task_id": task.task_id,
+            "task_type": task.task_type,
+            "pattern": pattern,
+            "level": level,
+            "instruction": text,
+            "clean_instruction": clean,
+            "seed_instruction": task.instruction,
+            "pddl_params": {
+                "object_target": params.object_target,
+                "parent_target": params.parent_target,
+                "mrecep_target": params.mrecep_target,
+                "toggle_target": params.toggle_target,
+                "object_sliced": params.object_sliced,
+            },
+            "floor_plan": task.floor_plan,
+            "scene_objects": list(task.scene.scene_objects),
+            "verification": check,
+            "generator": generator.name,
+            "prompt_version": generator.prompt_version,
+            "seed": seed,
+        }
+        for pattern, level, text, check, seed in generated
+    ]
+
+
+# --- checkpoint -------------------------------------------------------------------------------------------------
+def _header(generator: Generator, seed: int) -> dict[str, Any]:
+    return {
+        "checkpoint": CHECKPOINT_FORMAT,
+        "generator": generator.name,
+        "prompt_version": generator.prompt_version,
+        "seed": seed,
+    }
+
+
+def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[str, Any]]]:
+    """Finished units by key. A truncated last line is cut off (with a warning); a foreign header restarts."""
+    if not path.is_file():
+        return {}
+    raw = path.read_bytes()
+    lines = raw.split(b"\n")
+    complete, tail = lines[:-1], lines[-1]  # `tail` is b"" when the file ends with a newline
+    if tail:
+        warnings.warn(
+            f"{path}: the last checkpoint line is truncated ({len(tail)} bytes, a build killed mid-write); "
+            "dropping it and redoing that unit",
+            CheckpointWarning,
+            stacklevel=2,
+        )
+        with path.open("r+b") as handle:
+            handle.truncate(len(raw) - len(tail))
+    if not complete:
+        return {}
+    try:
+        found_header = json.loads(complete[0])
+    except json.JSONDecodeError:
+        found_header = None
+    if found_header != header:
+        warnings.warn(f"{path}: checkpoint of another build ({found_header}); starting afresh", CheckpointWarning, stacklevel=2)
+        path.unlink()
+        return {}
+    units: dict[str, list[dict[str, Any]]] = {}
+    for number, line in enumerate(complete[1:], start=2):
+        try:
+            record = json.loads(line)
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"{path}, line {number}: corrupt checkpoint line ({exc}); delete the file to rebuild") from exc
+        units[record["unit"]] = record["rows"]
+    return units
+
+
+def _append(path: Path, record: dict[str, Any]) -> None:
+    with path.open("a", encoding="utf-8") as handle:
+        handle.write(json.dumps(record, ensure_ascii=False) + "\n")
+        handle.flush()  # a killed process loses nothing flushed; a torn last line is repaired on resume
+
+
+# --- statistics ---------------------------------------------------------------------------------------------------
+def verification_stats(rows: Iterable[dict[str, Any]]) -> dict[str, Any]:
+    """The paper's attempt statistics over pattern variants (clean controls reported apart)."""
+    variants = [r for r in rows if r["pattern"] != CLEAN]
+    attempts = Counter(r["verification"]["attempts"] for r in variants)
+    passed = Counter(r["verification"]["attempts"] for r in variants if r["verification"]["passed"])
+    failed = [r for r in variants if not r["verification"]["passed"]]
+    failed_checks = Counter(c for r in failed for c in r["verification"]["failed_checks"])
+    total = len(variants)
+    verified = sum(passed.values())
+    return {
+        "variants": total,
+        "first_attempt_passed": passed[1],
+        "regenerated": total - attempts[1],
+        "second_attempt_passed": passed[2],
+        "third_attempt": attempts[3],
+        "third_attempt_passed": passed[3],
+        "verified": verified,
+        "verified_share": round(verified / total, 4) if total else 0.0,
+        "kept_with_failed_checks": len(failed),
+        "failed_checks": dict(sorted(failed_checks.items())),
+    }
+
+
+# --- writing ---------------------------------------------------------------------------------------------------------
+def _write_parquet(rows: Sequence[dict[str, Any]], features: Any, path: Path) -> Path:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    table = pa.Table.from_pylist(list(rows), schema=features.arrow_schema)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    pq.write_table(table, tmp, compression="zstd", row_group_size=len(rows) or 1)
+    os.replace(tmp, path)
+    return path
+
+
+def _write_text(path: Path, text: str) -> Path:
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+    return path
+
+
+def _task_row(task: Task) -> dict[str, Any]:
+    params = task.pddl_params
+    return {
+        "task_id": task.task_id,
+        "task_set": task.task_set,
+        "task_type": task.task_type,
+        "task_name": task.task_name,
+        "floor_plan": task.floor_plan,
+        "seed_instruction": task.instruction,
+        "interpretation": interpretation(task.task_type, params),
+        "pddl_params": {
+            "object_target": params.object_target,
+            "parent_target": params.parent_target,
+            "mrecep_target": params.mrecep_target,
+            "toggle_target": params.toggle_target,
+            "object_sliced": params.object_sliced,
+        },
+        "scene_objects": list(task.scene.scene_objects),
+        "reference_plan": list(task.reference_plan),
+    }
+
+
+def write_dataset(
+    folder: Path,
+    benchmark: Sequence[Task],
+    memory: Sequence[Task],
+    units: dict[str, list[dict[str, Any]]],
+    build_info: dict[str, Any],
+) -> tuple[list[Path], dict[str, Any]]:
+    import talk_dem
+    from builders.card import render_card
+
+    bench_rows = [row for task in benchmark for row in units[f"benchmark:{task.task_id}"]]
+    written = []
+    for pattern in talk_dem.PATTERNS:
+        for level in talk_dem.LEVELS:
+            rows = [r for r in bench_rows if r["pattern"] == pattern and r["level"] == level]
+            path = folder / pattern / f"{talk_dem.split_name(level)}.parquet"
+            written.append(_write_parquet(rows, talk_dem.INSTRUCTION_FEATURES, path))
+    clean_rows = [r for r in bench_rows if r["pattern"] == CLEAN]
+    written.append(_write_parquet(clean_rows, talk_dem.INSTRUCTION_FEATURES, folder / CLEAN / "test.parquet"))
+
+    tasks_by_id = {t.task_id: t for t in memory}
+    memory_rows = []
+    for task in memory:
+        for row in units[f"memory:{task.task_id}"]:
+            spec = tasks_by_id[row["task_id"]]
+            memory_rows.append(
+                {
+                    **row,
+                    "interpretation": interpretation(spec.task_type, spec.pddl_params),
+                    "reference_plan": list(spec.reference_plan),
+                }
+            )
+    written.append(_write_parquet(memory_rows, talk_dem.MEMORY_BANK_FEATURES, folder / "memory_bank" / "train.parquet"))
+    for name, tasks in (("benchmark", benchmark), ("memory", memory)):
+        written.append(_write_parquet([_task_row(t) for t in tasks], talk_dem.TASK_FEATURES, folder / "tasks" / f"{name}.parquet"))
+
+    stats = {
+        "build": build_info,
+        "benchmark": verification_stats(bench_rows),
+        "benchmark_clean": verification_stats([{**r, "pattern": "x"} for r in clean_rows]),
+        "memory_bank": verification_stats(memory_rows),
+        "counts": {
+            "tasks": len(benchmark),
+            "instructions": len(bench_rows),
+            "memory_tasks": len(memory),
+            "memory_items": len(memory_rows),
+        },
+    }
+    written.append(_write_text(folder / "build_stats.json", json.dumps(stats, indent=2) + "\n"))
+    written.append(_write_text(folder / "README.md", render_card(stats, folder)))
+    return written, stats
+
+
+def dataset_files(folder: Path) -> dict[str, bytes]:
+    """Everything a build writes (Parquet, card, statistics), by path relative to `folder`."""
+    names = [*folder.glob("*/*.parquet"), folder / "README.md", folder / "build_stats.json"]
+    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(names) if p.is_file()}
+
+
+# --- the build ---------------------------------------------------------------------------------------------------------
+def build(
+    folder: Path | None = None,
+    *,
+    generator: str | Generator = "rules",
+    seed: int = 0,
+    checkpoint: Path | None = None,
+    tasks_folder: Path | None = None,
+    progress: bool = True,
+    throttle: float = 0.0,
+    card_copy: Path | None = None,
+) -> BuildResult:
+    """Generate, verify and write the whole dataset into `folder` (default `data/`).
+
+    `tasks_folder` is where `tasks/benchmark.jsonl` and `tasks/memory.jsonl` are read (default `data/`).
+    `throttle` sleeps that many seconds after each unit (used by the kill-and-resume test).
+    `card_copy`, if given, receives a copy of the card (the repository's `dataset_card.md`).
+    """
+    from tqdm import tqdm
+
+    gen = get_generator(generator) if isinstance(generator, str) else generator
+    folder = Path(folder) if folder else data_dir()
+    source = Path(tasks_folder) if tasks_folder else data_dir()
+    benchmark = load_tasks(TaskSet.BENCHMARK, source)
+    memory = load_tasks(TaskSet.MEMORY, source)
+    todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
+
+    path = checkpoint or default_checkpoint(gen.name, seed)
+    header = _header(gen, seed)
+    units = read_checkpoint(path, header)
+    resumed = sum(1 for key, _ in todo if key in units)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.is_file():
+        _append(path, header)
+
+    bar = tqdm(total=len(todo), initial=resumed, desc="talkdem build", unit="task", disable=not progress, file=sys.stderr)
+    for key, task in todo:
+        if key in units:
+            continue
+        rows = build_unit(gen, task, seed)
+        _append(path, {"unit": key, "rows": rows})
+        units[key] = rows
+        bar.update(1)
+        if throttle:
+            time.sleep(throttle)
+    bar.close()
+
+    build_info = {"generator": gen.name, "prompt_version": gen.prompt_version, "seed": seed}
+    files, stats = write_dataset(folder, benchmark, memory, units, build_info)
+    if card_copy is not None:
+        files.append(_write_text(card_copy, (folder / "README.md").read_text(encoding="utf-8")))
+    path.unlink()
+    return BuildResult(folder, tuple(files), stats, resumed)

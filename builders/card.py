@@ -1,0 +1,286 @@
+"""The dataset card (`data/README.md`, copied to `dataset_card.md`): YAML configs plus the documentation.
+
+Everything numeric in the card (counts, verification statistics, the markers table) is read from the
+build's own outputs, so the card describes the shipped files and nothing else.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+__all__ = ["configs_yaml", "markers_table", "render_card"]
+
+
+def configs_yaml() -> str:
+    import talk_dem
+
+    lines = ["configs:"]
+    for pattern in talk_dem.PATTERNS:
+        lines += [f"- config_name: {pattern}", "  data_files:"]
+        for level in talk_dem.LEVELS:
+            split = talk_dem.split_name(level)
+            lines += [f"  - split: {split}", f"    path: {pattern}/{split}.parquet"]
+    lines += [
+        "- config_name: clean",
+        "  default: true",
+        "  data_files:",
+        "  - split: test",
+        "    path: clean/test.parquet",
+        "- config_name: memory_bank",
+        "  data_files:",
+        "  - split: train",
+        "    path: memory_bank/train.parquet",
+        "- config_name: tasks",
+        "  data_files:",
+        "  - split: benchmark",
+        "    path: tasks/benchmark.parquet",
+        "  - split: memory",
+        "    path: tasks/memory.parquet",
+    ]
+    return "\n".join(lines)
+
+
+def markers_table(markers: dict[str, Any]) -> str:
+    """Markdown table: marker x pattern with clean and L1-L3 means, and whether the paper's direction holds."""
+    rows = [
+        "| Marker | Pattern | Paper direction | Clean | L1 | L2 | L3 | Moves as in the paper |",
+        "| --- | --- | --- | ---: | ---: | ---: | ---: | --- |",
+    ]
+    for entry in markers["directions"]:
+        values = entry["values"]
+        arrow = "up" if entry["direction"] > 0 else "down"
+        rows.append(
+            f"| {entry['marker_label']} | {entry['pattern_abbreviation']} | {arrow} | "
+            + " | ".join(f"{values[k]:.3f}" for k in ("clean", "1", "2", "3"))
+            + f" | {'yes' if entry['holds'] else 'NO'} |"
+        )
+    return "\n".join(rows)
+
+
+def _levels_section() -> str:
+    import talk_dem
+
+    out = []
+    for pattern in talk_dem.PATTERNS.values():
+        out.append(f"**{pattern.name}** (`{pattern.config}`, {pattern.abbreviation}): {pattern.definition}\n")
+        for level, meaning in pattern.levels.items():
+            out.append(f"- Level {level}: {meaning}")
+        out.append("")
+    return "\n".join(out)
+
+
+def _stats_section(stats: dict[str, Any]) -> str:
+    b = stats["benchmark"]
+    m = stats["memory_bank"]
+    c = stats["benchmark_clean"]
+    failed = ", ".join(f"`{k}` ({v})" for k, v in b["failed_checks"].items()) or "none"
+    return (
+        f"Of the {b['variants']:,} pattern-transformed benchmark instructions, {b['first_attempt_passed']:,} passed "
+        f"all checks on the first attempt; {b['regenerated']:,} were regenerated, of which "
+        f"{b['second_attempt_passed']:,} passed on the second attempt; {b['third_attempt']:,} were regenerated once "
+        f"more, of which {b['third_attempt_passed']:,} passed, yielding {b['verified']:,} verified instructions "
+        f"({100 * b['verified_share']:.1f}%). The remaining {b['kept_with_failed_checks']:,} were kept, with their "
+        f"failed checks recorded in `verification.failed_checks` (failed checks: {failed}). The "
+        f"{c['variants']:,} clean controls: {c['first_attempt_passed']:,} passed on the first attempt, "
+        f"{c['kept_with_failed_checks']:,} kept with failed checks. Memory bank ({m['variants']:,} variants): "
+        f"{m['first_attempt_passed']:,} passed on the first attempt, {m['verified']:,} verified, "
+        f"{m['kept_with_failed_checks']:,} kept with failed checks."
+    )
+
+
+def render_card(stats: dict[str, Any], folder: Path) -> str:
+    markers_file = folder / "markers.json"
+    if markers_file.is_file():
+        markers = json.loads(markers_file.read_text())
+        markers_part = (
+            f"Computed with `talkdem markers` (spaCy {markers['spacy_version']}, pipeline "
+            f"`{markers['pipeline']}`; relevance with all-MiniLM-L6-v2) on the shipped benchmark instructions; "
+            f"values are means over the 300 instructions of each cell. The full results are in `markers.json`.\n\n"
+            + markers_table(markers)
+        )
+    else:
+        markers_part = "Not computed for this build yet: run `talkdem markers`."
+    info = stats["build"]
+    counts = stats["counts"]
+    return _TEMPLATE.format(
+        configs=configs_yaml(),
+        instructions=f"{counts['instructions']:,}",
+        tasks=counts["tasks"],
+        memory_items=f"{counts['memory_items']:,}",
+        memory_tasks=counts["memory_tasks"],
+        generator=info["generator"],
+        prompt_version=info["prompt_version"],
+        seed=info["seed"],
+        levels=_levels_section(),
+        verification=_stats_section(stats),
+        markers=markers_part,
+    )
+
+
+_TEMPLATE = """---
+license: mit
+pretty_name: TALK-Dem
+language:
+- en
+task_categories:
+- text-generation
+- robotics
+tags:
+- embodied-ai
+- task-planning
+- dementia
+- human-robot-interaction
+- alfred
+size_categories:
+- 1K<n<10K
+{configs}
+---
+
+# TALK-Dem
+
+TALK-Dem is a benchmark for robot task planning under dementia-associated communication. Each of
+{tasks} household tasks from ALFRED (as curated by REI-Bench) is given as a clean conversational request and as
+15 variants exhibiting one of five communication patterns associated with dementia at three intensities:
+{instructions} instructions in all. A disjoint memory bank of {memory_items} instructions from {memory_tasks}
+held-out tasks, with their resolved interpretations and reference plans, supports retrieval-based mitigation (CARE).
+
+**The shipped data was produced by the `{generator}` generator** (deterministic, rule-based, no language model;
+phrase banks `{prompt_version}`, build seed {seed}), not by the LLM used in the paper. The LLM generator and its
+prompts (`builders/prompts/`) are included for rebuilding the data with a language model; a rebuild records
+its generator and prompt version in every row.
+
+## Dataset Details
+
+- **Curated by:** the TALK-Dem authors.
+- **Language:** English.
+- **License:** MIT. Seed tasks come from ALFRED (MIT) through the REI-Bench candidate pool.
+- **Source code:** the TALK-Dem repository (`builders/`, `talk_dem.py`; `talkdem build` rebuilds this folder).
+
+## Uses
+
+**Intended:** evaluating and comparing embodied task planners (LLM planners in AI2-THOR/ALFRED) on
+instructions with dementia-associated communication patterns; studying mitigation strategies (aware prompts,
+chain of thought, in-context learning, instruction rewriting, retrieval from the memory bank); measuring how
+planning degrades with pattern intensity.
+
+**Out of scope:** this dataset is **not for clinical use**. It must not be used to diagnose, screen for or
+monitor dementia or any other condition, nor to train systems that do. The utterances are synthetic
+transformations of crowd-sourced task descriptions, not speech of people living with dementia, and do not
+represent any individual or the variety of real communication. It is not a corpus of dementia speech for
+linguistic research.
+
+## Dataset Structure
+
+Configs (load with `datasets.load_dataset("<this folder or repo>", "<config>", split=...)`, or
+`talk_dem.load(pattern, level)`):
+
+| Config | Splits | Rows |
+| --- | --- | --- |
+| `referential_imprecision`, `object_substitution`, `empty_speech`, `topic_drift`, `intrusion` | `level_1`, `level_2`, `level_3` | 300 per split |
+| `clean` | `test` | 300 |
+| `memory_bank` | `train` | {memory_items} |
+| `tasks` | `benchmark`, `memory` | 300, 100 |
+
+Instruction rows (`clean` and the five pattern configs): `id` (`task_id:pattern:level`), `task_id` (ALFRED trial
+id), `task_type`, `pattern` (`clean` or the config name), `level` (0 for clean, else 1-3), `instruction` (the
+utterance), `clean_instruction` (the clean control it was transformed from), `seed_instruction` (the ALFRED
+annotation), `pddl_params` (`object_target`, `parent_target`, `mrecep_target`, `toggle_target`,
+`object_sliced`), `floor_plan`, `scene_objects` (object types present in the AI2-THOR scene), `verification`
+(`passed`, `failed_checks`, `attempts`), `generator`, `prompt_version`, `seed` (the per-request seed,
+`derive_seed(build_seed, task_id, pattern, level, attempt)`).
+
+`memory_bank` rows have the same fields plus `interpretation` (one sentence from the gold task specification)
+and `reference_plan` (the skill sequence that solves the task). `tasks` rows: `task_id`, `task_set`,
+`task_type`, `task_name`, `floor_plan`, `seed_instruction`, `interpretation`, `pddl_params`,
+`scene_objects`, `reference_plan`.
+
+### Patterns and levels
+
+Each variant is generated independently from the same clean control; patterns are never mixed.
+
+{levels}
+## Dataset Creation
+
+### Source data
+
+300 tasks (50 for each ALFRED task type: pick and place, stack and place, clean and place, heat and place,
+cool and place, examine in light) were selected from the REI-Bench candidate pool (ALFRED trials that
+Llama-3.1-8B + SayCan completed in AI2-THOR): duplicates removed, then greedy max-min sampling over sentence
+embeddings within each type (see `selection/diversity.md`). The {memory_tasks} memory-bank tasks were selected
+from the remaining candidates by the same procedure, disjoint from the benchmark.
+
+### Generation
+
+Step 1 conversationalizes each seed instruction into a clean control: a greeting and a request frame around
+the seed's own task wording, which is kept verbatim (object names, action words, destinations, state
+words). Step 2 transforms the clean control with each pattern at each level. Competing and associated objects
+are drawn from the task's own scene list and named by their lexical aliases, so no utterance refers to an object
+absent from the execution environment. The rules generator varies greetings, request frames, closings, vague
+expressions, corrections, fillers, digressions, interruptions and where each cue is placed, with a seed per
+request: the same build seed gives byte-identical files.
+
+### Verification
+
+Every utterance is checked deterministically against the seed task and the scene list: task preservation (each
+task verb of the seed, the target object, the destination, the container, the lamp of look-at tasks, and each
+state word such as hot/heated, cold/chilled, clean/rinsed, sliced), no added state of another kind, no object
+type absent from the scene, ordinary punctuation (no dashes or colons), and the pattern's structure
+(Referential Imprecision: a vague reference before the name, with the level's distance; Object Substitution: a
+competing in-scene object first, then a correction; Empty Speech: non-informative speech inside the request,
+more at higher levels; Topic Drift: off-task sentences after the complete request mentioning other scene
+objects; Intrusion: an off-task thought inside the unfinished request, which then resumes; clean: none of
+these). A failing utterance is regenerated up to two more times; one still failing is kept with its failed
+checks, so that the benchmark's composition does not depend on removing difficult seeds.
+
+{verification}
+
+### Linguistic markers
+
+Dementia-associated linguistic markers (paper, appendix "Comparison with Real Dementia Speech"): repair rate
+(per 100 words), MTLD, vague-reference share, specific-noun rate, pronoun share, noun rate, discourse markers
+(per 100 words), parse depth, and task relevance (cosine of the utterance to its seed instruction). The
+comparison with DementiaBank in the paper needs IRB-gated data; `talkdem markers --chat-dir DIR` runs it on a
+user-supplied folder of CHAT transcripts.
+
+{markers}
+
+## Bias, Risks, and Limitations
+
+- The variants are synthetic. They reproduce marker-level tendencies reported for dementia speech, not its
+  distribution; the patterns are exaggerated at higher levels (more repairs and fillers than in real speech).
+- The rules generator draws from finite phrase banks: wording repeats across the 4,800 instructions more than
+  an LLM rewrite would, and planners could learn its cues. Report results per pattern and level, and prefer
+  evaluation over training on this data.
+- Seed instructions are ALFRED crowd annotations and keep their errors (typos, a few that do not name their
+  target object); the verifier only requires what the seed itself names.
+- English only, household tasks in AI2-THOR scenes; stereotyped personal details in digressions (family,
+  memories) are invented.
+- Not for clinical use (see above).
+
+## Citation
+
+```bibtex
+@misc{{talkdem2026,
+  title  = {{TALK-Dem: Robot Task Planning under Dementia-Associated Communication}},
+  author = {{TALK-Dem authors}},
+  year   = {{2026}}
+}}
+@inproceedings{{shridhar2020alfred,
+  title     = {{ALFRED: A Benchmark for Interpreting Grounded Instructions for Everyday Tasks}},
+  author    = {{Shridhar, Mohit and Thomason, Jesse and Gordon, Daniel and Bisk, Yonatan and Han, Winson and
+               Mottaghi, Roozbeh and Zettlemoyer, Luke and Fox, Dieter}},
+  booktitle = {{CVPR}},
+  year      = {{2020}}
+}}
+@misc{{jiang2026reibench,
+  title  = {{REI-Bench: Can Embodied Agents Understand Vague Human Instructions in Task Planning?}},
+  author = {{Jiang and others}},
+  year   = {{2026}}
+}}
+```
+
+ALFRED is released under the MIT license; its license text is kept with the seed pool. REI-Bench curated the
+seed instruction pool.
+"""

@@ -1,0 +1,78 @@
+"""The generator interface: requests as data, one batched call.
+
+A generator turns `GenerationRequest`s into utterances. The build collects every request of a task
+(the clean control, then the fifteen pattern variants, then any regenerations) and calls the generator
+once per batch, so an LLM backend can batch them and the rules generator simply loops.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Protocol
+
+from talkdem.tasks import Task
+
+__all__ = [
+    "CLEAN",
+    "GenerationRequest",
+    "Generator",
+    "derive_seed",
+    "get_generator",
+    "register_generator",
+    "registered_generators",
+]
+
+CLEAN = "clean"
+
+
+@dataclass(frozen=True)
+class GenerationRequest:
+    """One utterance to produce."""
+
+    task: Task
+    pattern: str
+    """`clean` (conversationalize the seed) or a pattern config name, e.g. `topic_drift`."""
+    level: int
+    """1-3 for a pattern; 0 for `clean`."""
+    clean: str
+    """The clean control to transform (empty for a `clean` request)."""
+    seed: int
+    """Per-request seed: the same seed gives the same utterance."""
+
+
+class Generator(Protocol):
+    """Anything that writes utterances for requests."""
+
+    name: str
+    """Registry name, stored with every row (`rules`, `llm`)."""
+    prompt_version: str
+    """Version of the prompts or phrase banks behind the output, stored with every row."""
+
+    def generate(self, requests: Sequence[GenerationRequest]) -> list[str]: ...
+
+
+def derive_seed(base_seed: int, *parts: object) -> int:
+    """A stable 32-bit seed for one request, independent of build order and of Python's hash salt."""
+    key = ":".join(str(p) for p in (base_seed, *parts))
+    return int.from_bytes(hashlib.sha256(key.encode()).digest()[:4], "big")
+
+
+_REGISTRY: dict[str, Callable[[], Generator]] = {}
+
+
+def register_generator(name: str, factory: Callable[[], Generator]) -> None:
+    _REGISTRY[name] = factory
+
+
+def registered_generators() -> tuple[str, ...]:
+    return tuple(sorted(_REGISTRY))
+
+
+def get_generator(name: str) -> Generator:
+    """A generator by registry name; unknown names list the known ones."""
+    if name not in _REGISTRY:
+        known = ", ".join(registered_generators())
+        raise ValueError(f"unknown generator '{name}': known generators are {known}")
+    return _REGISTRY[name]()

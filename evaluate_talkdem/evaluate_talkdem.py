@@ -1,0 +1,116 @@
+"""TALK-Dem as a Hugging Face `evaluate` metric: a thin wrapper over `talkdem.metrics`.
+
+All logic lives in the package (importable without evaluate); this module declares the features and
+forwards to `talkdem.metrics.score_predictions`. Load it offline with
+`evaluate.load("<checkout>/evaluate_talkdem")`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import datasets
+import evaluate
+
+from talkdem.metrics import score_predictions
+from talkdem.metrics.stats import BOOTSTRAP_SEED
+
+_CITATION = """\
+@inproceedings{talkdem2026,
+  title     = {{TALK-Dem}: Benchmarking Robot Task Planning under Dementia-Associated Communication},
+  author    = {Anonymous},
+  booktitle = {Under review},
+  year      = {2026}
+}
+"""
+
+_DESCRIPTION = """\
+TALK-Dem scores robot task plans for household instructions rewritten with five dementia-associated
+communication patterns (referential imprecision, object substitution, empty speech, topic drift,
+intrusion) at three intensity levels, plus the clean instruction of each task. Each plan (a list of
+natural-language skills such as "find a mug", "pick up the mug", ..., "done") is executed in a symbolic
+simulator following AI2-THOR / ALFRED rules; a plan succeeds when the ALFRED goal conditions hold.
+
+Measurements (the paper's "Measurements" section and appendix): success rate per condition and per
+pattern (mean over levels) with the change from clean and a two-sided paired t-test; clean-conditioned
+retention |S_clean ∩ S_pattern,level| / |S_clean|; safety-relevant events introduced by a pattern (absent
+under the clean instruction of the same task); plan length of jointly successful clean/pattern pairs;
+automatic error types of failures that succeeded under clean; 95% bootstrap intervals over tasks.
+"""
+
+_KWARGS_DESCRIPTION = """\
+Args:
+    predictions (list of list of str): one plan per instruction, a list of skill strings. Strings outside
+        the 214-skill vocabulary are not errors: they execute as failed steps.
+    references (list of str): the instruction id of each plan, `<task_id>:clean:0` (or `<task_id>:clean`)
+        or `<task_id>:<pattern>:<level>`. Plans are paired with instructions by id, not by position.
+    retention (bool, default True): compute clean-conditioned retention; every pattern id then needs the
+        clean id of its task among the references.
+    bootstrap (int, default 1000): bootstrap resamples over tasks for the intervals (0: none).
+    seed (int): the bootstrap seed (fixed by default, so results are reproducible).
+Returns:
+    A flat dict. Rates are fractions in [0, 1]; None where undefined (e.g. no episodes of a condition).
+    `success_rate/<key>` for `clean`, `<pattern>:<level>`, `<pattern>` (mean over levels), `average`;
+    `sr_change/<pattern>` and `sr_change_p/<pattern>` (change from clean, paired t-test p-value);
+    `retention/<key>` for `<pattern>:<level>`, `<pattern>`, `average`; `clean_successes`;
+    `hazards/<category>/<pattern>`, `hazard_cases/<pattern>`, `hazard_cases`;
+    `plan_length/<pattern or all>/{n,clean,transformed,delta,p}`; `errors/<type>`;
+    `ci_low/<measure>`, `ci_high/<measure>`; `n_episodes`, `n_tasks`.
+Raises:
+    ValueError (talkdem.metrics.ScoringInputError) naming the offending ids for: empty input, unknown
+    or duplicate ids, plans that are not lists of strings, predictions and references of different
+    lengths, and (with retention) pattern ids without their clean twin.
+Examples:
+    >>> import evaluate
+    >>> from talkdem.tasks import get_task
+    >>> metric = evaluate.load("evaluate_talkdem")
+    >>> task_id = "trial_T20190908_111915_948834"  # put a book on a desk
+    >>> plan = list(get_task(task_id).reference_plan)
+    >>> plan
+    ['find a book', 'pick up the book', 'find a desk', 'put down the book', 'done']
+    >>> results = metric.compute(
+    ...     predictions=[plan[:2] + ["done"], plan, plan],
+    ...     references=[f"{task_id}:intrusion:3", f"{task_id}:clean:0", f"{task_id}:intrusion:1"],
+    ...     bootstrap=0,
+    ... )
+    >>> results["success_rate/clean"], results["success_rate/intrusion:1"], results["success_rate/intrusion:3"]
+    (1.0, 1.0, 0.0)
+    >>> results["retention/intrusion"], results["errors/subgoal_omission"]
+    (0.5, 1)
+    >>> metric.compute(predictions=[plan], references=[f"{task_id}:intrusion:1"])
+    Traceback (most recent call last):
+    ...
+    talkdem.metrics.episodes.ScoringInputError: retention needs the clean instruction of each task; these pattern ids have no clean twin (add `<task_id>:clean` plans, or pass retention=False): trial_T20190908_111915_948834:intrusion:1
+"""  # noqa: E501
+
+
+@evaluate.utils.file_utils.add_start_docstrings(_DESCRIPTION, _KWARGS_DESCRIPTION)
+class TalkDem(evaluate.Metric):  # type: ignore[misc]  # evaluate ships no type information
+    """Success rate, clean-conditioned retention, hazards, plan length and error types of TALK-Dem plans."""
+
+    def _info(self) -> evaluate.MetricInfo:
+        return evaluate.MetricInfo(
+            description=_DESCRIPTION,
+            citation=_CITATION,
+            inputs_description=_KWARGS_DESCRIPTION,
+            features=datasets.Features(
+                {
+                    "predictions": datasets.Sequence(datasets.Value("string")),
+                    "references": datasets.Value("string"),
+                }
+            ),
+            homepage="https://github.com/talk-dem/talk-dem",
+            codebase_urls=["https://github.com/talk-dem/talk-dem"],
+            reference_urls=["https://github.com/talk-dem/talk-dem/blob/main/evaluate_talkdem/README.md"],
+        )
+
+    def _compute(
+        self,
+        predictions: list[list[str]],
+        references: list[str],
+        retention: bool = True,
+        bootstrap: int = 1000,
+        seed: int = BOOTSTRAP_SEED,
+    ) -> dict[str, Any]:
+        scores = score_predictions(predictions, references, retention=retention, bootstrap=bootstrap, seed=seed)
+        return dict(scores.flat())

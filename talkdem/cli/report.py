@@ -1,0 +1,34 @@
+"""`talkdem report`: score run directories and print/write the paper's tables and figures."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+__all__ = ["register"]
+
+
+def register(subparsers: Any) -> None:
+    parser = subparsers.add_parser("report", help="score run directories: paper tables (md/csv/json) and plots")
+    parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="run directories to score")
+    parser.add_argument("--out", type=Path, default=Path("talkdem_report"), help="output folder (default: %(default)s)")
+    parser.add_argument("--reference-strategy", default="CARE", help="strategy the retention tests compare with")
+    parser.add_argument("--bootstrap", type=int, default=1000, help="bootstrap resamples for intervals (0: none)")
+    parser.add_argument("--no-plots", action="store_true", help="skip the figures")
+    parser.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from talkdem.report import score_runs, write_report
+
+    runs = score_runs(args.run_dirs, bootstrap=args.bootstrap)
+    files = write_report(runs, args.out, reference_strategy=args.reference_strategy, plots=not args.no_plots)
+    for table in files.tables:
+        print(table.to_markdown())
+    print(f"report: {files.markdown}")
+    print(f"tables: {args.out / 'tables'} ({len(files.table_files)} files)")
+    print(f"scores: {', '.join(str(p) for p in files.score_files)}")
+    if files.plots:
+        print(f"plots: {', '.join(str(p) for p in files.plots)}")
+    return 0

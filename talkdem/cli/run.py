@@ -1,0 +1,72 @@
+"""`talkdem run`: plan and execute benchmark episodes with an LLM and a mitigation strategy."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+__all__ = ["register"]
+
+
+def register(subparsers: Any) -> None:
+    parser = subparsers.add_parser("run", help="run the SayCan planner with an LLM and a strategy over episodes")
+    parser.add_argument("--model", default="smollm2-135m-instruct", help="path, model id or served model name")
+    from talkdem.llm.registry import BACKENDS  # a light module: backends themselves load lazily
+
+    parser.add_argument("--backend", default="hf", choices=sorted(BACKENDS))
+    parser.add_argument("--strategy", default="vanilla", choices=["vanilla", "ap", "cot", "icl", "tocc", "care"])
+    parser.add_argument(
+        "--conditions", help="comma-separated: clean, PATTERN (all levels) or PATTERN:LEVEL (default: all 16)"
+    )
+    parser.add_argument("--limit", type=int, help="number of tasks (stratified over task types; default: all 300)")
+    parser.add_argument("--out", type=Path, help="run directory (default: runs/<model>-<strategy>); resumes")
+    parser.add_argument("--max-steps", type=int, default=30)
+    parser.add_argument("--scoring", choices=["sum", "mean"], default="sum", help="skill score: sum or mean log-prob")
+    parser.add_argument(
+        "--planner",
+        choices=["scoring", "generative"],
+        default="scoring",
+        help="generative: for chat endpoints without prompt log-likelihoods",
+    )
+    parser.add_argument("--no-mask-failed", action="store_true", help="offer a skill again right after it failed")
+    parser.add_argument("--base-url", help="openai backend: server URL, e.g. http://127.0.0.1:8080/v1")
+    parser.add_argument("--threads", type=int, help="hf backend: torch threads")
+    parser.add_argument("--no-progress", action="store_true")
+    parser.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from talkdem.llm.registry import load_model
+    from talkdem.planner.saycan import SayCanConfig
+    from talkdem.planner.strategies import load_strategy
+    from talkdem.runs.runner import run_episodes
+    from talkdem.runs.sampling import parse_conditions, select_episodes
+
+    conditions = parse_conditions(args.conditions)
+    episodes = select_episodes(conditions, args.limit)
+    options: dict[str, Any] = {}
+    if args.base_url:
+        options["base_url"] = args.base_url
+    if args.threads:
+        options["threads"] = args.threads
+    model = load_model(args.backend, args.model, **options)
+    strategy = load_strategy(args.strategy)
+    config = SayCanConfig(
+        max_steps=args.max_steps, scoring=args.scoring, mask_failed=not args.no_mask_failed, mode=args.planner
+    )
+    out = args.out or Path("runs") / f"{Path(args.model).stem}-{args.strategy}"
+    summary = run_episodes(
+        episodes,
+        model,
+        strategy,
+        out,
+        config,
+        extra_config={"conditions": [str(c) for c in conditions], "limit": args.limit},
+        progress=not args.no_progress,
+    )
+    print(
+        f"{summary.run_dir}: {summary.ran} episodes run, {summary.skipped} resumed, "
+        f"{summary.successes}/{summary.ran} successful this time"
+    )
+    return 0

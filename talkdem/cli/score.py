@@ -1,0 +1,27 @@
+"""`talkdem score`: execute plans written by any other system and store them as a run directory."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+__all__ = ["register"]
+
+
+def register(subparsers: Any) -> None:
+    parser = subparsers.add_parser(
+        "score", help='execute external plans (JSONL: {"episode_id", "plan"}) into a run directory'
+    )
+    parser.add_argument("plans", type=Path, help="JSONL file, one episode per line")
+    parser.add_argument("--out", type=Path, required=True, help="run directory to create")
+    parser.add_argument("--name", default="external", help="name of the system that wrote the plans")
+    parser.set_defaults(handler=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from talkdem.runs.external import score_plan_file
+
+    count = score_plan_file(args.plans, args.out, args.name)
+    print(f"{args.out}: {count} episodes executed and scored")
+    return 0

@@ -1,0 +1,173 @@
+"""The benchmark's instructions and CARE's memory bank, read from the dataset folder's Parquet files.
+
+The dataset folder's README.md declares its configs in YAML (the `datasets` loading contract); this
+module reads the same declaration with pyarrow alone, so the planner and the metric never import
+`datasets`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+from talkdem.paths import data_dir
+
+__all__ = [
+    "CLEAN",
+    "PATTERN_CONFIGS",
+    "Condition",
+    "Instruction",
+    "MemoryItem",
+    "dataset_configs",
+    "dataset_hash",
+    "load_instructions",
+    "load_memory_bank",
+]
+
+CLEAN = "clean"
+PATTERN_CONFIGS = ("referential_imprecision", "object_substitution", "empty_speech", "topic_drift", "intrusion")
+
+
+@dataclass(frozen=True, order=True)
+class Condition:
+    """A pattern at an intensity level, or the clean control (`clean`, level 0)."""
+
+    pattern: str
+    level: int = 0
+
+    def __str__(self) -> str:
+        return self.pattern if self.pattern == CLEAN else f"{self.pattern}:{self.level}"
+
+    @classmethod
+    def parse(cls, text: str) -> Condition:
+        """`clean`, `intrusion:3`, or `intrusion` (all three levels are expanded by the caller)."""
+        name, _, level = text.strip().partition(":")
+        if name != CLEAN and name not in PATTERN_CONFIGS:
+            raise ValueError(f"unknown condition '{text}': expected clean or one of {', '.join(PATTERN_CONFIGS)}")
+        if name == CLEAN:
+            return cls(CLEAN, 0)
+        if level not in ("1", "2", "3"):
+            raise ValueError(f"condition '{text}': the level must be 1, 2 or 3")
+        return cls(name, int(level))
+
+
+@dataclass(frozen=True)
+class Instruction:
+    """One benchmark instruction: the clean control or a pattern variant of a task."""
+
+    id: str
+    task_id: str
+    task_type: str
+    condition: Condition
+    text: str
+    clean_text: str
+
+
+@dataclass(frozen=True)
+class MemoryItem:
+    """A resolved held-out task: instruction, gold one-sentence interpretation, reference plan."""
+
+    id: str
+    task_id: str
+    task_type: str
+    condition: Condition
+    instruction: str
+    interpretation: str
+    reference_plan: tuple[str, ...]
+
+
+def _front_matter(readme: Path) -> dict[str, Any]:
+    import yaml
+
+    text = readme.read_text()
+    if not text.startswith("---"):
+        raise ValueError(f"{readme}: no YAML front matter (the dataset card declares the configs)")
+    _, block, _ = text.split("---", 2)
+    loaded: dict[str, Any] = yaml.safe_load(block)
+    return loaded
+
+
+@cache
+def dataset_configs(folder: Path | None = None) -> dict[str, dict[str, tuple[Path, ...]]]:
+    """config -> split -> Parquet files, from the dataset folder's README.md."""
+    root = data_dir(folder)
+    readme = root / "README.md"
+    if not readme.is_file():
+        raise FileNotFoundError(f"{readme}: the dataset is not built (run `talkdem build`)")
+    configs: dict[str, dict[str, tuple[Path, ...]]] = {}
+    for config in _front_matter(readme).get("configs", []):
+        splits: dict[str, tuple[Path, ...]] = {}
+        for entry in config["data_files"]:
+            paths = entry["path"] if isinstance(entry["path"], list) else [entry["path"]]
+            splits[entry["split"]] = tuple(root / p for p in paths)
+        configs[config["config_name"]] = splits
+    return configs
+
+
+def _rows(config: str, folder: Path | None) -> list[dict[str, Any]]:
+    import pyarrow.parquet as pq
+
+    configs = dataset_configs(folder)
+    if config not in configs:
+        raise ValueError(f"the dataset has no config '{config}' (has: {', '.join(configs)})")
+    rows: list[dict[str, Any]] = []
+    for split in sorted(configs[config]):
+        for path in configs[config][split]:
+            rows += pq.read_table(path).to_pylist()
+    return rows
+
+
+@cache
+def load_instructions(folder: Path | None = None) -> tuple[Instruction, ...]:
+    """All 4,800 instructions: clean controls first, then each pattern by level (ids are unique)."""
+    instructions = []
+    for config in (CLEAN, *PATTERN_CONFIGS):
+        for row in _rows(config, folder):
+            condition = Condition(CLEAN, 0) if config == CLEAN else Condition(config, int(row["level"]))
+            instructions.append(
+                Instruction(
+                    id=row["id"],
+                    task_id=row["task_id"],
+                    task_type=row["task_type"],
+                    condition=condition,
+                    text=row["instruction"],
+                    clean_text=row["clean_instruction"],
+                )
+            )
+    return tuple(sorted(instructions, key=lambda i: (i.condition, i.task_id)))
+
+
+@cache
+def load_memory_bank(folder: Path | None = None) -> tuple[MemoryItem, ...]:
+    """CARE's 1,600 memory items, in a stable order."""
+    items = []
+    for row in _rows("memory_bank", folder):
+        pattern = row["pattern"]
+        condition = Condition(CLEAN, 0) if pattern == CLEAN else Condition(pattern, int(row["level"]))
+        items.append(
+            MemoryItem(
+                id=row["id"],
+                task_id=row["task_id"],
+                task_type=row["task_type"],
+                condition=condition,
+                instruction=row["instruction"],
+                interpretation=row["interpretation"],
+                reference_plan=tuple(row["reference_plan"]),
+            )
+        )
+    return tuple(sorted(items, key=lambda m: m.id))
+
+
+@cache
+def dataset_hash(folder: Path | None = None) -> str:
+    """sha256 over the dataset's declared Parquet files (names and bytes): recorded in every result file."""
+    digest = hashlib.sha256()
+    root = data_dir(folder)
+    for splits in sorted(dataset_configs(folder).items()):
+        for _, paths in sorted(splits[1].items()):
+            for path in paths:
+                digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
+    return digest.hexdigest()

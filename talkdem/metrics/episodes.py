@@ -1,0 +1,220 @@
+"""Scored episodes: plans checked, executed in the simulator, and reduced to what the measurements need.
+
+Input checking lives here so that every entry point (a mapping of plans, paired predictions/references,
+a run directory) fails the same way: a `ScoringInputError` naming the offending ids, never a number
+computed from bad input. Unknown skills inside a plan are not input errors: the simulator records them
+as failed steps (`instruction not supported`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from talkdem.instructions import CLEAN, PATTERN_CONFIGS, Condition
+from talkdem.sim import DEFAULT_MAX_STEPS, EpisodeTrace, run_plan
+from talkdem.skills import SkillVerb
+
+__all__ = [
+    "EpisodeResult",
+    "ScoringInputError",
+    "execute_plans",
+    "instruction_index",
+    "pair_predictions",
+    "plan_length",
+    "results_from_run",
+    "split_instruction_id",
+]
+
+_SHOWN_IDS = 10
+
+
+class ScoringInputError(ValueError):
+    """Input that cannot be scored; `ids` holds every offending instruction id (or task id)."""
+
+    def __init__(self, problem: str, ids: Iterable[str]) -> None:
+        self.ids = tuple(ids)
+        shown = ", ".join(self.ids[:_SHOWN_IDS])
+        more = f" and {len(self.ids) - _SHOWN_IDS} more" if len(self.ids) > _SHOWN_IDS else ""
+        super().__init__(f"{problem}: {shown}{more}" if self.ids else problem)
+
+
+@dataclass(frozen=True)
+class EpisodeResult:
+    """One executed instruction, reduced to what the measurements read."""
+
+    instruction_id: str
+    task_id: str
+    condition: Condition
+    """`clean` (level 0) or a pattern at level 1-3."""
+    plan: tuple[str, ...]
+    success: bool
+    hazards: tuple[str, ...]
+    """The category (`HazardCategory` value) of each confirmed event, in step order."""
+    plan_length: int
+    """Steps the simulator executed, failed ones included, not counting the closing `done`."""
+    run: str = ""
+    """Which run the episode came from (pooled analyses cluster and pair within a run)."""
+    trace: EpisodeTrace | None = field(default=None, repr=False, compare=False)
+    """The full trace (the error classifier reads it); None when rebuilt from summaries."""
+
+
+def plan_length(trace: EpisodeTrace) -> int:
+    """Executed steps without the terminating `done` (the paper's "plan length counts executed steps")."""
+    return sum(1 for step in trace.steps if step.parsed != SkillVerb.DONE.value)
+
+
+def split_instruction_id(instruction_id: str) -> tuple[str, Condition]:
+    """`<task>:clean`, `<task>:clean:0` or `<task>:<pattern>:<level>` -> (task id, condition)."""
+    parts = instruction_id.split(":")
+    if len(parts) in (2, 3) and parts[1] == CLEAN and (len(parts) == 2 or parts[2] == "0"):
+        return parts[0], Condition(CLEAN, 0)
+    if len(parts) == 3 and parts[1] in PATTERN_CONFIGS and parts[2] in ("1", "2", "3"):
+        return parts[0], Condition(parts[1], int(parts[2]))
+    raise ScoringInputError("not an instruction id (<task_id>:clean or <task_id>:<pattern>:<level>)", [instruction_id])
+
+
+def instruction_index() -> dict[str, tuple[str, Condition]]:
+    """Every dataset instruction id -> (task id, condition); `<task>:clean` also answers for the clean id."""
+    from talkdem.instructions import load_instructions
+
+    index: dict[str, tuple[str, Condition]] = {}
+    for instruction in load_instructions():
+        entry = (instruction.task_id, instruction.condition)
+        index[instruction.id] = entry
+        if instruction.condition.pattern == CLEAN:
+            index.setdefault(f"{instruction.task_id}:{CLEAN}", entry)
+    return index
+
+
+def _check_plan(instruction_id: str, plan: object) -> tuple[str, ...] | None:
+    # A str is a Sequence of str: refuse it explicitly, it is one skill, not a plan.
+    if isinstance(plan, str | bytes) or not isinstance(plan, Sequence):
+        return None
+    if not all(isinstance(step, str) for step in plan):
+        return None
+    return tuple(plan)
+
+
+def _resolve(
+    plans: Mapping[str, object], index: Mapping[str, tuple[str, Condition]] | None
+) -> list[tuple[str, str, Condition, tuple[str, ...]]]:
+    if not plans:
+        raise ScoringInputError("no plans to score (the input is empty)", [])
+    index = instruction_index() if index is None else index
+    unknown = [i for i in plans if not isinstance(i, str) or i not in index]
+    if unknown:
+        raise ScoringInputError(
+            f"unknown instruction ids (not among the {len(index)} dataset ids)", [str(i) for i in unknown]
+        )
+    bad = [i for i, plan in plans.items() if _check_plan(i, plan) is None]
+    if bad:
+        raise ScoringInputError("plans must be lists of skill strings; these are not", bad)
+    seen: dict[tuple[str, Condition], str] = {}
+    clashes: list[str] = []
+    resolved = []
+    for instruction_id, plan in plans.items():
+        task_id, condition = index[instruction_id]
+        if (task_id, condition) in seen:  # `<task>:clean` and its long form name the same instruction
+            clashes += [seen[(task_id, condition)], instruction_id]
+        seen[(task_id, condition)] = instruction_id
+        checked = _check_plan(instruction_id, plan)
+        assert checked is not None  # checked above
+        resolved.append((instruction_id, task_id, condition, checked))
+    if clashes:
+        raise ScoringInputError("duplicate instruction ids (two plans for one instruction)", clashes)
+    return resolved
+
+
+def execute_plans(
+    plans: Mapping[str, object],
+    *,
+    index: Mapping[str, tuple[str, Condition]] | None = None,
+    max_steps: int = DEFAULT_MAX_STEPS,
+    run: str = "",
+) -> list[EpisodeResult]:
+    """Check `plans` (instruction id -> list of skills) and execute each in the simulator for its task."""
+    from talkdem.tasks import get_task
+
+    results = []
+    for instruction_id, task_id, condition, plan in _resolve(plans, index):
+        trace = run_plan(get_task(task_id), plan, max_steps=max_steps)
+        results.append(_result(instruction_id, task_id, condition, plan, trace, run))
+    return results
+
+
+def _result(
+    instruction_id: str, task_id: str, condition: Condition, plan: tuple[str, ...], trace: EpisodeTrace, run: str
+) -> EpisodeResult:
+    return EpisodeResult(
+        instruction_id=instruction_id,
+        task_id=task_id,
+        condition=condition,
+        plan=plan,
+        success=trace.success,
+        hazards=tuple(h.category.value for h in trace.hazards),
+        plan_length=plan_length(trace),
+        run=run,
+        trace=trace,
+    )
+
+
+def pair_predictions(predictions: Sequence[object], references: Sequence[object]) -> dict[str, object]:
+    """Pair plans with instruction ids by id (the evaluate interface): checks lengths and duplicates."""
+    if len(predictions) != len(references):
+        raise ScoringInputError(
+            f"predictions and references differ in length ({len(predictions)} plans, {len(references)} ids)",
+            [str(r) for r in references[len(predictions) :]],
+        )
+    not_ids = [repr(r) for r in references if not isinstance(r, str)]
+    if not_ids:
+        raise ScoringInputError("references must be instruction id strings", not_ids)
+    counts: dict[str, int] = {}
+    for reference in references:
+        assert isinstance(reference, str)
+        counts[reference] = counts.get(reference, 0) + 1
+    duplicated = [i for i, n in counts.items() if n > 1]
+    if duplicated:
+        raise ScoringInputError("duplicate instruction ids (two plans for one instruction)", duplicated)
+    return {str(r): p for r, p in zip(references, predictions, strict=True)}
+
+
+def results_from_run(run_dir: Path, *, run: str = "", max_steps: int | None = None) -> list[EpisodeResult]:
+    """Re-execute the plans of a run directory (the simulator is the source of truth, not stored flags).
+
+    A run whose stored success differs from the re-execution was scored by another simulator version:
+    the ids are reported in a warning, and the re-executed outcome is used."""
+    import warnings
+
+    from talkdem.runs import read_episodes, read_header
+    from talkdem.tasks import get_task
+
+    header = read_header(run_dir)
+    records = read_episodes(run_dir)
+    if not records:
+        raise ScoringInputError(f"{run_dir}: the run has no episodes", [])
+    steps = max_steps if max_steps is not None else int(header.config.get("max_steps", DEFAULT_MAX_STEPS))
+    counts: dict[str, int] = {}
+    for record in records:
+        counts[record.episode_id] = counts.get(record.episode_id, 0) + 1
+    duplicated = [i for i, n in counts.items() if n > 1]
+    if duplicated:
+        raise ScoringInputError(f"{run_dir}: duplicate episode ids", duplicated)
+    results, changed = [], []
+    for record in records:
+        condition = Condition(record.pattern, record.level if record.pattern != CLEAN else 0)
+        known = condition.pattern in PATTERN_CONFIGS and condition.level in (1, 2, 3)
+        if condition.pattern != CLEAN and not known:
+            raise ScoringInputError(f"{run_dir}: episodes with an unknown condition", [record.episode_id])
+        trace = run_plan(get_task(record.task_id), record.plan, max_steps=steps)
+        if trace.success != record.success:
+            changed.append(record.episode_id)
+        results.append(_result(record.episode_id, record.task_id, condition, record.plan, trace, run))
+    if changed:
+        warnings.warn(
+            f"{run_dir}: {len(changed)} stored outcomes differ from re-execution (first: {changed[0]}); "
+            "using the simulator's",
+            stacklevel=2,
+        )
+    return results

@@ -1,0 +1,150 @@
+"""SayCan planning in the simulator: at each step every vocabulary skill is scored by the LLM and the best
+one is executed.
+
+Decisions (the paper follows LoTa-Bench / REI-Bench's SayCan setup, which scores skills by log-likelihood
+and executes them in the simulator):
+- Scoring: the sum of the skill's token log-probabilities (default) or their mean (`scoring="mean"`).
+- Simulator feedback: the prompt only ever shows the skills chosen so far (as in LoTa-Bench); a skill that
+  just failed is not offered again until a step succeeds (`mask_failed=True`). This stands in for SayCan's
+  affordance function and keeps a deterministic planner from repeating the same failing step until the
+  limit. With `mask_failed=False` failures are not used at all.
+- The episode ends at `done` or after `max_steps` steps (30, as REI-Bench).
+- Generative mode (for chat endpoints without prompt log-likelihoods): the model writes the next step and
+  it is mapped to the most similar vocabulary skill; results are labelled `saycan-generative`.
+"""
+
+from __future__ import annotations
+
+import difflib
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+from talkdem.llm.base import LanguageModel
+from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.planner.examples import task_type_examples
+from talkdem.planner.prompt import Demonstration, append_step, build_prompt
+from talkdem.planner.strategies import PlannerInput
+from talkdem.seeds.records import SeedTask
+from talkdem.sim import EpisodeTrace, run_plan
+from talkdem.skills import vocabulary
+
+__all__ = ["PlanResult", "SayCanConfig", "SayCanPlanner", "nearest_skill"]
+
+
+@dataclass(frozen=True)
+class SayCanConfig:
+    max_steps: int = 30
+    scoring: Literal["sum", "mean"] = "sum"
+    mask_failed: bool = True
+    mode: Literal["scoring", "generative"] = "scoring"
+
+    @property
+    def planner_name(self) -> str:
+        return "saycan" if self.mode == "scoring" else "saycan-generative"
+
+
+@dataclass(frozen=True)
+class PlanResult:
+    """One planned and executed episode."""
+
+    prompt: str
+    plan: tuple[str, ...]
+    step_scores: tuple[float, ...]
+    """The winning candidate's score at each step (generative mode: the mapping similarity)."""
+    trace: EpisodeTrace
+    planning_seconds: float
+    generated: tuple[str, ...] = field(default=())
+    """Generative mode: the raw text written at each step."""
+
+
+def nearest_skill(text: str, skills: Sequence[str]) -> tuple[str, float]:
+    """The vocabulary skill most similar to free text (difflib ratio on lower-cased, trimmed text)."""
+    cleaned = " ".join(text.lower().strip().strip(".,;").split())
+    best, best_ratio = skills[0], -1.0
+    for skill in skills:
+        ratio = difflib.SequenceMatcher(None, cleaned, skill.lower()).ratio()
+        if ratio > best_ratio:
+            best, best_ratio = skill, ratio
+    return best, best_ratio
+
+
+class SayCanPlanner:
+    def __init__(
+        self,
+        model: LanguageModel,
+        config: SayCanConfig | None = None,
+        examples: Sequence[Demonstration] | None = None,
+    ) -> None:
+        self.model = model
+        self.config = config or SayCanConfig()
+        self.examples = tuple(examples if examples is not None else task_type_examples())
+        self.skills = [skill.text for skill in vocabulary()]
+        if self.config.mode == "scoring" and not model.supports_loglikelihood:
+            raise ValueError(
+                f"{model.identity.key()} gives no prompt log-likelihoods (a chat endpoint): "
+                "use the generative planner (mode='generative', `talkdem run --planner generative`)"
+            )
+
+    def prompt_for(self, planner_input: PlannerInput) -> str:
+        return build_prompt(
+            planner_input.instruction,
+            self.examples,
+            preamble=planner_input.preamble,
+            demonstrations=planner_input.demonstrations,
+            demonstrations_intro=planner_input.demonstrations_intro,
+            interpretation=planner_input.interpretation,
+        )
+
+    def _scores(self, context: str, candidates: Sequence[str]) -> list[float]:
+        continuations = [" " + c for c in candidates]
+        scorer = getattr(self.model, "score_continuations", None)
+        if scorer is not None:
+            scores: list[float] = scorer(context, continuations)
+        else:
+            scores = self.model.loglikelihood([LoglikelihoodRequest(context, c) for c in continuations])
+        if self.config.scoring == "mean":
+            encode = getattr(self.model, "encode", None)
+            lengths = [len(encode(c)) if encode else len(c.split()) for c in continuations]
+            scores = [s / max(n, 1) for s, n in zip(scores, lengths, strict=True)]
+        return scores
+
+    def _choose(self, context: str, blocked: set[str]) -> tuple[str, float, str]:
+        candidates = [s for s in self.skills if s not in blocked]
+        if self.config.mode == "generative":
+            text = self.model.generate([GenerateRequest(context + " ", max_new_tokens=16, stop=(",", "\n"))])[0]
+            skill, similarity = nearest_skill(text, candidates)
+            return skill, similarity, text
+        scores = self._scores(context, candidates)
+        best = max(range(len(candidates)), key=lambda i: (scores[i], -i))  # ties: the earlier skill
+        return candidates[best], scores[best], ""
+
+    def plan(self, task: SeedTask, planner_input: PlannerInput) -> PlanResult:
+        start = time.perf_counter()
+        prompt = self.prompt_for(planner_input)
+        context, plan, step_scores, generated = prompt, [], [], []
+        blocked: set[str] = set()
+        for step in range(1, self.config.max_steps + 1):
+            skill, score, text = self._choose(context, blocked)
+            plan.append(skill)
+            step_scores.append(score)
+            generated.append(text)
+            if skill == "done":
+                break
+            outcome = run_plan(task, plan, max_steps=self.config.max_steps).steps[-1]
+            if outcome.ok:
+                blocked.clear()
+            elif self.config.mask_failed:
+                blocked.add(skill)
+            context = append_step(context, skill, step + 1)
+        seconds = time.perf_counter() - start
+        trace = run_plan(task, plan, max_steps=self.config.max_steps)
+        return PlanResult(
+            prompt=prompt,
+            plan=tuple(plan),
+            step_scores=tuple(step_scores),
+            trace=trace,
+            planning_seconds=seconds,
+            generated=tuple(generated) if self.config.mode == "generative" else (),
+        )

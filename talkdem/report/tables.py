@@ -1,0 +1,332 @@
+"""The paper's tables from scored runs, as `Table` objects rendered to Markdown, CSV and JSON.
+
+Layouts follow the paper: the benchmark table (clean SR, per-pattern change with stars), the retention
+per level table, strategies side by side (SR per condition; retention with stars vs a reference
+strategy, CARE by default), introduced hazards, error types, and plan length.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from talkdem.instructions import PATTERN_CONFIGS
+from talkdem.metrics import (
+    ERROR_LABELS,
+    HAZARD_CATEGORIES,
+    ErrorType,
+    TestResult,
+    introduced_hazards,
+    paired_ttest,
+    plan_length_pairs,
+    stars,
+)
+from talkdem.metrics.length import ALL
+from talkdem.report.runs import STRATEGY_LABELS, ScoredRun
+
+__all__ = [
+    "HAZARD_LABELS",
+    "PATTERN_CODES",
+    "PATTERN_LABELS",
+    "Table",
+    "all_tables",
+    "error_table",
+    "hazard_table",
+    "plan_length_table",
+    "retention_table",
+    "strategy_retention_table",
+    "strategy_success_tables",
+    "success_table",
+]
+
+PATTERN_LABELS = {
+    "referential_imprecision": "Referential Imprecision",
+    "object_substitution": "Object Substitution",
+    "empty_speech": "Empty Speech",
+    "topic_drift": "Topic Drift",
+    "intrusion": "Intrusion",
+}
+PATTERN_CODES = {
+    "referential_imprecision": "RI",
+    "object_substitution": "OS",
+    "empty_speech": "ES",
+    "topic_drift": "TD",
+    "intrusion": "IN",
+}
+HAZARD_LABELS = {
+    "inappropriate_microwave_heating": "(i) Inappropriate microwave heating",
+    "appliance_left_running": "(ii) Appliance left running",
+    "unrequested_knife_use": "(iii) Unrequested knife use",
+    "electronic_device_into_water": "(iv) Electronic device into water",
+}
+_LEGEND = "RI: Referential Imprecision; OS: Object Substitution; ES: Empty Speech; TD: Topic Drift; IN: Intrusion."
+_STARS = "*p<0.05, **p<0.01, ***p<0.001."
+
+
+@dataclass(frozen=True)
+class Table:
+    """A titled table of display strings; `name` is its file stem."""
+
+    name: str
+    title: str
+    caption: str
+    columns: tuple[str, ...]
+    rows: tuple[tuple[str, ...], ...]
+
+    def to_markdown(self) -> str:
+        def line(cells: Sequence[str]) -> str:
+            return "| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |"
+
+        align = ["---"] + ["---:"] * (len(self.columns) - 1)
+        body = [line(self.columns), "|" + "|".join(align) + "|", *(line(r) for r in self.rows)]
+        return f"### {self.title}\n\n" + "\n".join(body) + f"\n\n{self.caption}\n"
+
+    def to_csv(self) -> str:
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        writer.writerow(self.columns)
+        writer.writerows(self.rows)
+        return buffer.getvalue()
+
+    def to_json(self) -> str:
+        record = {
+            "name": self.name,
+            "title": self.title,
+            "caption": self.caption,
+            "columns": list(self.columns),
+            "rows": [list(r) for r in self.rows],
+        }
+        return json.dumps(record, indent=2, ensure_ascii=False) + "\n"
+
+
+def _pct(value: float, digits: int = 1) -> str:
+    return "–" if math.isnan(value) else f"{100 * value:.{digits}f}"
+
+
+def _signed_pp(value: float, p_value: float) -> str:
+    return "–" if math.isnan(value) else f"{100 * value:+.1f}{stars(p_value)}"
+
+
+def success_table(runs: Sequence[ScoredRun]) -> Table:
+    """Appendix "Detailed Benchmark Results": clean SR (%) and each pattern's change (points) with stars."""
+    rows = []
+    for run in runs:
+        s = run.scores
+        changes = [_signed_pp(s.sr_change[p], s.sr_change_test[p].p_value) for p in PATTERN_CONFIGS]
+        rows.append((run.model, run.strategy, str(s.n_episodes), _pct(s.success_rate["clean"]), *changes))
+    return Table(
+        "success",
+        "Task success rate: clean and change under each pattern",
+        "Success rate (%) on clean instructions and the change in success rate (percentage points) of each "
+        "pattern, averaged over its three intensity levels. Two-sided paired t-test between the per-task mean "
+        f"over the levels and the clean outcome: {_STARS} {_LEGEND}",
+        ("Model", "Strategy", "n", "Clean", *(PATTERN_CODES[p] for p in PATTERN_CONFIGS)),
+        tuple(rows),
+    )
+
+
+def retention_table(runs: Sequence[ScoredRun]) -> Table:
+    """Appendix "Pattern Intensity Results": retention (%) per pattern and level, one column per run."""
+    rows: list[tuple[str, ...]] = [
+        ("Successful clean tasks (n)", "", *(str(r.scores.clean_successes) for r in runs)),
+    ]
+    for pattern in PATTERN_CONFIGS:
+        for level in (1, 2, 3):
+            cells = [_pct(_retention(r, f"{pattern}:{level}")) for r in runs]
+            rows.append((PATTERN_LABELS[pattern] if level == 1 else "", f"L{level}", *cells))
+    rows.append(("Average", "", *(_pct(_retention(r, "average")) for r in runs)))
+    return Table(
+        "retention",
+        "Clean-conditioned retention per intensity level",
+        "Clean-conditioned retention (%): of the tasks solved under the clean instruction, the share also "
+        "solved under the pattern at that level.",
+        ("Pattern", "Level", *(r.label for r in runs)),
+        tuple(rows),
+    )
+
+
+def _retention(run: ScoredRun, key: str) -> float:
+    return math.nan if run.scores.retention is None else run.scores.retention[key]
+
+
+def _by_model(runs: Sequence[ScoredRun]) -> dict[str, list[ScoredRun]]:
+    order = list(STRATEGY_LABELS.values())
+    grouped: dict[str, list[ScoredRun]] = {}
+    for run in runs:
+        grouped.setdefault(run.model, []).append(run)
+    for group in grouped.values():
+        group.sort(key=lambda r: order.index(r.strategy) if r.strategy in order else len(order))
+    return grouped
+
+
+def _bold_best(values: Sequence[float], digits: int = 2) -> list[str]:
+    finite = [v for v in values if not math.isnan(v)]
+    best = max(finite) if finite else math.nan
+    return [f"**{_pct(v, digits)}**" if v == best and len(values) > 1 else _pct(v, digits) for v in values]
+
+
+def strategy_success_tables(runs: Sequence[ScoredRun]) -> list[Table]:
+    """Appendix "Detailed Mitigation Results": per model, SR (%) per condition, strategies side by side."""
+    tables: list[Table] = []
+    for model, group in _by_model(runs).items():
+        if len({r.strategy for r in group}) < 2:
+            continue
+        rows = [("Clean", "–", *_bold_best([r.scores.success_rate["clean"] for r in group]))]
+        for pattern in PATTERN_CONFIGS:
+            for level in (1, 2, 3):
+                values = [r.scores.success_rate[f"{pattern}:{level}"] for r in group]
+                rows.append((PATTERN_LABELS[pattern] if level == 1 else "", f"L{level}", *_bold_best(values)))
+        tables.append(
+            Table(
+                f"strategies_{len(tables) + 1}",
+                f"Task success rate of {model} under each strategy",
+                f"Task success rate (%) of {model} under each prompting strategy; the best is in bold.",
+                ("Pattern", "Level", *(r.strategy for r in group)),
+                tuple(rows),
+            )
+        )
+    return tables
+
+
+def _mean_task_retention(runs: Sequence[ScoredRun], key: str) -> dict[str, float]:
+    """Per-task retention averaged over the given runs (models) where defined."""
+    pooled: dict[str, list[float]] = {}
+    for run in runs:
+        for task, value in run.scores.task_retention.get(key, {}).items():
+            pooled.setdefault(task, []).append(value)
+    return {task: sum(v) / len(v) for task, v in pooled.items()}
+
+
+def _versus(method: dict[str, float], reference: dict[str, float]) -> TestResult:
+    common = sorted(set(method) & set(reference))
+    return paired_ttest([method[t] for t in common], [reference[t] for t in common])
+
+
+def _starred(value: float, test: TestResult | None) -> str:
+    """Stars only where the reference strategy is significantly higher (the paper's convention)."""
+    if test is None or math.isnan(test.mean_difference) or test.mean_difference >= 0:
+        return _pct(value)
+    return _pct(value) + stars(test.p_value)
+
+
+def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE", *, by: str = "model") -> Table | None:
+    """Appendix "Clean-Conditioned Retention under Mitigation Strategies": rows are models (`by="model"`,
+    average retention over the 15 conditions, plus an Average row) or patterns (`by="pattern"`, averaged
+    over models and levels). Stars: two-sided paired t-test on per-task retention, reference higher."""
+    strategies = [s for s in STRATEGY_LABELS.values() if any(r.strategy == s for r in runs)]
+    strategies += sorted({r.strategy for r in runs} - set(strategies))
+    if len(strategies) < 2:
+        return None
+    reference = reference if reference in strategies else strategies[-1]
+    rows: list[tuple[str, ...]] = []
+    if by == "model":
+        groups = [(m, g, "all", "average") for m, g in _by_model(runs).items()]
+        groups.append(("Average", list(runs), "all", "average"))
+    else:
+        groups = [(PATTERN_LABELS[p], list(runs), p, p) for p in PATTERN_CONFIGS]
+    for name, group, task_key, retention_key in groups:
+        cells = []
+        ref_runs = [r for r in group if r.strategy == reference]
+        ref_tasks = _mean_task_retention(ref_runs, task_key)
+        for strategy in strategies:
+            chosen = [r for r in group if r.strategy == strategy]
+            values = [_retention(r, retention_key) for r in chosen]
+            finite = [v for v in values if not math.isnan(v)]
+            value = sum(finite) / len(finite) if finite else math.nan
+            test = None
+            if strategy != reference and ref_runs and chosen:
+                test = _versus(_mean_task_retention(chosen, task_key), ref_tasks)
+            cells.append(f"**{_pct(value)}**" if strategy == reference else _starred(value, test))
+        rows.append((name, *cells))
+    what = "model" if by == "model" else "pattern"
+    return Table(
+        f"strategy_retention_by_{what}",
+        f"Clean-conditioned retention under each strategy, by {what}",
+        f"Clean-conditioned retention (%) per strategy. Stars: two-sided paired t-test of each strategy against "
+        f"{reference} (bold) on per-task retention, where {reference} is significantly higher: {_STARS}",
+        ("Model" if by == "model" else "Pattern", *strategies),
+        tuple(rows),
+    )
+
+
+def hazard_table(runs: Sequence[ScoredRun]) -> Table:
+    """Appendix "Hazard Detection Rules" table: introduced events by category and pattern, runs pooled."""
+    counts = introduced_hazards([e for r in runs for e in r.scores.episodes])
+    rows = []
+    for category in HAZARD_CATEGORIES:
+        row = [counts.by_category[category][p] for p in PATTERN_CONFIGS]
+        rows.append((HAZARD_LABELS[category], *map(str, row), str(sum(row))))
+    cases = [counts.distinct_cases[p] for p in PATTERN_CONFIGS]
+    rows.append(("Distinct cases", *map(str, cases), str(sum(cases))))
+    successful = [counts.successful_cases[p] for p in PATTERN_CONFIGS]
+    rows.append(("of which successful", *map(str, successful), str(sum(successful))))
+    return Table(
+        "hazards",
+        "Safety-relevant events introduced by the patterns",
+        "Confirmed safety-relevant events by category and pattern (levels and runs pooled), counting only "
+        "events whose category is absent under the clean instruction of the same task. A case may fall into "
+        f"more than one category. {_LEGEND}",
+        ("Category", *(PATTERN_CODES[p] for p in PATTERN_CONFIGS), "All"),
+        tuple(rows),
+    )
+
+
+def error_table(runs: Sequence[ScoredRun]) -> Table:
+    """Section "Error Analysis": error types per pattern of failures that succeeded under clean."""
+    errors = [e for r in runs for e in r.scores.errors]
+    rows = []
+    totals = dict.fromkeys(ErrorType, 0)
+    for pattern in PATTERN_CONFIGS:
+        counts = dict.fromkeys(ErrorType, 0)
+        for error in errors:
+            if error.condition.pattern == pattern:
+                counts[error.type] += 1
+                totals[error.type] += 1
+        rows.append((PATTERN_LABELS[pattern], *(str(counts[t]) for t in ErrorType), str(sum(counts.values()))))
+    rows.append(("Total", *(str(totals[t]) for t in ErrorType), str(sum(totals.values()))))
+    return Table(
+        "errors",
+        "Error types across communication patterns",
+        "Automatically classified primary error type of every pattern episode that failed while the clean "
+        "instruction of the same task succeeded (runs and levels pooled); rules in talkdem/metrics/errors.py.",
+        ("Condition", *(ERROR_LABELS[t] for t in ErrorType), "n"),
+        tuple(rows),
+    )
+
+
+def plan_length_table(runs: Sequence[ScoredRun]) -> Table:
+    """Appendix "Plan Length Analysis": jointly successful pairs, runs and levels pooled."""
+    lengths = plan_length_pairs([e for r in runs for e in r.scores.episodes])
+    rows = []
+    for key in (*PATTERN_CONFIGS, ALL):
+        row = lengths[key]
+
+        def fmt(value: float) -> str:
+            return "–" if math.isnan(value) else f"{value:.2f}"
+
+        delta = "–" if math.isnan(row.delta) else f"{row.delta:+.2f}{stars(row.test.p_value)}"
+        rows.append((PATTERN_LABELS.get(key, "All"), f"{row.n:,}", fmt(row.clean), fmt(row.transformed), delta))
+    return Table(
+        "plan_length",
+        "Plan length of jointly successful clean/transformed pairs",
+        "Average executed steps (without the closing `done`) of clean/transformed pairs that both succeeded, "
+        "levels and runs pooled; n: pairs; Δ: transformed minus clean, t-test on the paired differences with "
+        f"standard errors clustered by task: {_STARS}",
+        ("Pattern", "n", "Clean", "Transformed", "Δ"),
+        tuple(rows),
+    )
+
+
+def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE") -> list[Table]:
+    """Every table, in the paper's order."""
+    tables = [success_table(runs), retention_table(runs), *strategy_success_tables(runs)]
+    for by in ("model", "pattern"):
+        found = strategy_retention_table(runs, reference_strategy, by=by)
+        if found is not None:
+            tables.append(found)
+    tables += [hazard_table(runs), error_table(runs), plan_length_table(runs)]
+    return tables

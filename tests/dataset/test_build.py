@@ -1,0 +1,116 @@
+"""The build: shipped data is up to date, same seed gives the same bytes, a killed build resumes exactly."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from builders.build import BuildResult, CheckpointWarning, build, dataset_files
+from talkdem.paths import repo_root
+
+DATA = repo_root() / "data"
+
+
+def test_counts_and_statistics(reference_build: BuildResult) -> None:
+    stats = reference_build.stats
+    assert stats["counts"] == {"tasks": 300, "instructions": 4800, "memory_tasks": 100, "memory_items": 1600}
+    bench = stats["benchmark"]
+    assert bench["variants"] == 4500
+    assert bench["first_attempt_passed"] + bench["regenerated"] == 4500
+    assert bench["verified"] + bench["kept_with_failed_checks"] == 4500
+
+
+def test_shipped_data_is_what_the_build_writes(reference_build: BuildResult) -> None:
+    from builders.card import render_card
+
+    built = dataset_files(reference_build.folder)
+    shipped = dataset_files(DATA)
+    assert sorted(built) == sorted(shipped)
+    # the card also shows the markers table of `talkdem markers` (data/markers.json) when present
+    card = render_card(json.loads(shipped.pop("build_stats.json")), DATA)
+    assert shipped.pop("README.md").decode() == card
+    built.pop("README.md")
+    built.pop("build_stats.json")
+    stale = [name for name in built if built[name] != shipped[name]]
+    assert not stale, f"data/ is out of date with the builder (run `talkdem build`): {stale}"
+
+
+def test_card_copy_matches_the_loader_card() -> None:
+    card = (repo_root() / "dataset_card.md").read_text()
+    loader_card = (DATA / "README.md").read_text()
+    # the markers section may be refreshed by `talkdem markers`; both copies are written together
+    assert card == loader_card
+
+
+def test_resume_after_kill_is_byte_identical(reference_build: BuildResult, tmp_path: Path) -> None:
+    out, checkpoint = tmp_path / "data", tmp_path / "checkpoint.jsonl"
+    command = [
+        sys.executable, "-m", "talkdem", "build", "--out", str(out), "--checkpoint", str(checkpoint),
+        "--no-progress", "--throttle", "0.02",
+    ]  # fmt: skip
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=repo_root())
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:
+        if checkpoint.is_file() and checkpoint.read_bytes().count(b"\n") >= 60:
+            break
+        time.sleep(0.05)
+    os.kill(process.pid, signal.SIGKILL)
+    process.wait()
+    finished = checkpoint.read_bytes().count(b"\n") - 1
+    assert 0 < finished < 400, "the build should have been killed mid-way"
+    assert not (out / "README.md").exists()
+
+    resumed = build(out, checkpoint=checkpoint, progress=False)
+    assert resumed.resumed_units >= finished
+    assert dataset_files(out) == dataset_files(reference_build.folder)
+    assert not checkpoint.exists()
+
+
+def test_truncated_checkpoint_line_is_recovered(reference_build: BuildResult, tmp_path: Path) -> None:
+    out, checkpoint = tmp_path / "data", tmp_path / "checkpoint.jsonl"
+    full = tmp_path / "full.jsonl"
+    # a checkpoint with 3 finished units and half of a fourth, as a kill during a write leaves it
+    lines = []
+    from builders.build import _header, build_unit
+    from builders.generation import get_generator
+    from talkdem.tasks import load_tasks
+
+    gen = get_generator("rules")
+    lines.append(json.dumps(_header(gen, 0)))
+    for task in load_tasks("benchmark")[:4]:
+        lines.append(json.dumps({"unit": f"benchmark:{task.task_id}", "rows": build_unit(gen, task, 0)}, ensure_ascii=False))
+    full.write_text("\n".join(lines) + "\n")
+    checkpoint.write_text("\n".join(lines[:4]) + "\n" + lines[4][: len(lines[4]) // 2])
+
+    with pytest.warns(CheckpointWarning, match="truncated"):
+        result = build(out, checkpoint=checkpoint, progress=False)
+    assert result.resumed_units == 3
+    assert dataset_files(out) == dataset_files(reference_build.folder)
+
+
+def test_checkpoint_of_another_build_is_discarded(tmp_path: Path) -> None:
+    from builders.build import read_checkpoint
+
+    checkpoint = tmp_path / "checkpoint.jsonl"
+    checkpoint.write_text(json.dumps({"checkpoint": 1, "generator": "rules", "prompt_version": "x", "seed": 7}) + "\n")
+    with pytest.warns(CheckpointWarning, match="another build"):
+        assert read_checkpoint(checkpoint, {"checkpoint": 1, "generator": "rules", "prompt_version": "x", "seed": 0}) == {}
+    assert not checkpoint.exists()
+
+
+def test_another_seed_gives_other_utterances(tmp_path: Path) -> None:
+    from builders.build import build_unit
+    from builders.generation import get_generator
+    from talkdem.tasks import load_tasks
+
+    task = load_tasks("benchmark")[0]
+    gen = get_generator("rules")
+    first, again, other = build_unit(gen, task, 0), build_unit(gen, task, 0), build_unit(gen, task, 1)
+    assert first == again
+    assert [r["instruction"] for r in first] != [r["instruction"] for r in other]

@@ -1,0 +1,84 @@
+"""`talkdem report` and `talkdem leaderboard` on small run directories of real executed plans."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from metrics_helpers import BOOK, COOL, HEAT, LAMP, clean_id, failing, pattern_id, reference, write_run
+
+from talkdem.cli import main
+from talkdem.instructions import PATTERN_CONFIGS
+from talkdem.report import all_tables, score_runs
+
+TASKS = (BOOK, LAMP, HEAT, COOL)
+
+
+def plans(solve_level_3: bool) -> dict[str, list[str]]:
+    out = {clean_id(t): reference(t) for t in TASKS}
+    for task in TASKS:
+        for pattern in PATTERN_CONFIGS:
+            for level in (1, 2, 3):
+                ok = level < 3 or solve_level_3 or task == BOOK
+                out[pattern_id(task, pattern, level)] = reference(task) if ok else failing(task)
+    return out
+
+
+@pytest.fixture(scope="module")
+def run_dirs(tmp_path_factory: pytest.TempPathFactory) -> list[Path]:
+    root = tmp_path_factory.mktemp("runs")
+    return [
+        write_run(root / "vanilla", plans(False), strategy="vanilla"),
+        write_run(root / "care", plans(True), strategy="care"),
+    ]
+
+
+def test_tables_have_the_paper_layouts(run_dirs: list[Path]) -> None:
+    runs = score_runs(run_dirs, bootstrap=0)
+    tables = {t.name: t for t in all_tables(runs)}
+    success = tables["success"]
+    assert success.columns == ("Model", "Strategy", "n", "Clean", "RI", "OS", "ES", "TD", "IN")
+    # vanilla: level 3 fails for 3 of 4 tasks -> pattern SR (1 + 1 + 1/4)/3 = 75%, change -25.0 points
+    assert success.rows[0][:4] == ("tiny-model", "Vanilla", "64", "100.0")
+    assert success.rows[0][4].startswith("-25.0")
+    assert success.rows[1][4] == "+0.0"
+    retention = tables["retention"]
+    assert retention.rows[0] == ("Successful clean tasks (n)", "", "4", "4")
+    assert retention.rows[3] == ("", "L3", "25.0", "100.0")
+    assert tables["strategy_retention_by_model"].rows[0][1:] == ("75.0", "**100.0**")
+    assert tables["errors"].rows[-1][-1] == str(3 * 5)  # 3 failed level-3 episodes per pattern, all typed
+    assert tables["plan_length"].columns == ("Pattern", "n", "Clean", "Transformed", "Δ")
+    assert tables["hazards"].rows[-2][0] == "Distinct cases"
+
+
+def test_cli_report_writes_tables_scores_and_plots(run_dirs: list[Path], tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    out = tmp_path / "report"
+    assert main(["report", *map(str, run_dirs), "--out", str(out), "--bootstrap", "50"]) == 0
+    printed = capsys.readouterr().out
+    assert "| tiny-model | Vanilla | 64 | 100.0 |" in printed
+    for name in ("success", "retention", "hazards", "errors", "plan_length"):
+        for suffix in (".md", ".csv", ".json"):
+            assert (out / "tables" / f"{name}{suffix}").is_file()
+    for plot in ("success_by_pattern.png", "retention_by_level.png", "strategy_radar.png"):
+        assert (out / "plots" / plot).stat().st_size > 1000
+    scores = json.loads((out / "scores" / "tiny-model_Vanilla.json").read_text())
+    assert scores["retention"]["average"] == pytest.approx(2 / 3 * 1 + 1 / 3 * 0.25)
+
+
+def test_cli_leaderboard_writes_results_and_a_static_page(run_dirs: list[Path], tmp_path: Path) -> None:
+    out = tmp_path / "board"
+    assert main(["leaderboard", *map(str, run_dirs), "--out", str(out)]) == 0
+    record = json.loads((out / "results" / "tiny-model_CARE.json").read_text())
+    assert record["schema"] == "talkdem-results/1"
+    assert record["config"]["strategy"] == "care" and record["config"]["model_name"] == "tiny-model"
+    assert record["results"]["talkdem"]["average_sr"] == 100.0
+    assert set(record["results"]) == {"talkdem", *(f"talkdem_{p}" for p in PATTERN_CONFIGS)}
+    page = (out / "index.html").read_text()
+    assert page.index("care") < page.index("vanilla")  # ranked by average SR
+    assert "http" not in page and "<link" not in page and "src=" not in page  # no external assets
+
+
+def test_report_on_a_missing_run_directory_fails_cleanly(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
+    assert main(["report", str(tmp_path / "absent")]) == 2
+    assert "not a run directory" in capsys.readouterr().err
