@@ -18,7 +18,9 @@ from numpy.typing import NDArray
 from builders.selection.maxmin import greedy_max_min, mean_pairwise_similarity, random_subset_similarity
 from talkdem.paths import data_dir
 from talkdem.seeds.records import SeedTask
-from talkdem.tasks import TaskSet, make_task, task_file, write_tasks
+from talkdem.sim import run_plan
+from talkdem.sim.build import fixture_pool
+from talkdem.tasks import Task, TaskSet, make_task, reference_plan, task_file, write_tasks
 
 __all__ = [
     "DiversityRow",
@@ -68,6 +70,13 @@ class Selection:
     memory: tuple[SeedTask, ...]
     diversity: tuple[DiversityRow, ...]
     settings: SelectionSettings
+    fixtures: dict[str, frozenset[str]]
+    """Fixed-object ids per floor plan, pooled over every seed (stored with each task)."""
+    excluded_from_memory: tuple[str, ...] = ()
+    """Trials left out of the memory-bank candidates because their reference plan fails in the simulator."""
+
+    def task(self, seed: SeedTask, task_set: TaskSet) -> Task:
+        return make_task(seed, task_set, tuple(self.fixtures.get(seed.floor_plan, ())))
 
 
 def one_seed_per_trial(seeds: Sequence[SeedTask]) -> list[SeedTask]:
@@ -97,6 +106,15 @@ def select_tasks(
 
         encode = minilm_encode
     candidates = one_seed_per_trial(seeds)
+    fixtures = fixture_pool(seeds)
+    # A memory item is a demonstration of a resolved task: its reference plan must execute. (The benchmark
+    # is selected from every candidate, as in the paper; a test checks that its 300 plans all succeed.)
+    runs_clean = {
+        c.task_id: run_plan(
+            make_task(c, TaskSet.MEMORY, tuple(fixtures.get(c.floor_plan, ()))), reference_plan(c)
+        ).success
+        for c in candidates
+    }
     embeddings = encode([c.instruction for c in candidates])
     task_types = sorted({c.task_type for c in candidates})
     quotas = memory_quotas(task_types, settings.memory_total)
@@ -113,7 +131,7 @@ def select_tasks(
         group = embeddings[members]
         similarity = group @ group.T
         chosen = greedy_max_min(similarity, settings.per_type)
-        rest = [i for i in range(len(members)) if i not in set(chosen)]
+        rest = [i for i in range(len(members)) if i not in set(chosen) and runs_clean[candidates[members[i]].task_id]]
         rest_similarity = similarity[np.ix_(rest, rest)]
         memory_chosen = [rest[i] for i in greedy_max_min(rest_similarity, quotas[task_type])]
         random_mean, random_std = random_subset_similarity(
@@ -132,7 +150,8 @@ def select_tasks(
         )
         benchmark += [candidates[members[i]] for i in chosen]
         memory += [candidates[members[i]] for i in memory_chosen]
-    return Selection(tuple(benchmark), tuple(memory), tuple(rows), settings)
+    excluded = tuple(sorted(c.task_id for c in candidates if not runs_clean[c.task_id]))
+    return Selection(tuple(benchmark), tuple(memory), tuple(rows), settings, fixtures, excluded)
 
 
 def diversity_file(folder: Path | None = None) -> Path:
@@ -158,11 +177,15 @@ def write_selection(selection: Selection, folder: Path | None = None) -> list[Pa
     written = []
     for task_set, seeds in ((TaskSet.BENCHMARK, selection.benchmark), (TaskSet.MEMORY, selection.memory)):
         path = task_file(task_set, folder)
-        write_tasks([make_task(seed, task_set) for seed in seeds], path)
+        write_tasks([selection.task(seed, task_set) for seed in seeds], path)
         written.append(path)
     table_json = diversity_file(folder)
     table_json.parent.mkdir(parents=True, exist_ok=True)
-    payload = {"settings": asdict(selection.settings), "rows": [asdict(r) for r in selection.diversity]}
+    payload = {
+        "settings": asdict(selection.settings),
+        "rows": [asdict(r) for r in selection.diversity],
+        "excluded_from_memory": list(selection.excluded_from_memory),
+    }
     table_json.write_text(json.dumps(payload, indent=2) + "\n")
     table_md = table_json.with_suffix(".md")
     table_md.write_text(

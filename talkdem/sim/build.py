@@ -7,8 +7,9 @@ Instances (which objects exist, with which AI2-THOR ids):
    AI2-THOR does. An id from the task's own trajectory that differs only by rounding (same type, every
    axis within 2 cm) renames that instance, so the trajectory and the state agree on ids.
 3. Fixtures the poses do not list (faucets, lamps, stove burners, toilets, ...): every non-pickupable id
-   that any stored task of the same floor plan touches (fixtures do not move between ALFRED trials of a
-   floor plan), plus the task's own trajectory ids. A sink basin with no known faucet within 1 m gets a
+   that any seed trajectory of the same floor plan touches (fixtures do not move between ALFRED trials of
+   a floor plan; the builder stores them with each task as `scene_fixture_ids`), plus the task's own
+   trajectory ids. A sink basin with no known faucet within 1 m gets a
    synthetic one at its pose (`Faucet|synthetic|<sink id>`): every AI2-THOR sink has one, and the faucet
    cleans the basin nearest to it (ALFRED).
 4. A vocabulary type listed in `scene.scene_objects` that still has no instance gets one synthetic
@@ -39,7 +40,6 @@ from __future__ import annotations
 import math
 from collections import defaultdict
 from collections.abc import Iterable
-from functools import cache
 
 from talkdem.seeds.records import SeedScene, SeedTask
 from talkdem.sim.affordances import (
@@ -102,17 +102,6 @@ def _task_ids(task: SeedTask) -> list[str]:
     for action in task.interactions:
         ids += [action.object_id] + ([action.receptacle_id] if action.receptacle_id else [])
     return [_normalise_id(i) for i in ids]
-
-
-@cache
-def _default_pool() -> dict[str, frozenset[str]]:
-    from talkdem.tasks import TaskSet, load_tasks
-
-    try:
-        tasks = [t for s in TaskSet for t in load_tasks(s)]
-    except FileNotFoundError:
-        return {}
-    return fixture_pool(tasks)
 
 
 def fixture_pool(tasks: Iterable[SeedTask]) -> dict[str, frozenset[str]]:
@@ -299,7 +288,10 @@ def initial_state(task: SeedTask, pool: dict[str, frozenset[str]] | None = None)
     """A fresh copy of the task's initial state (built once per task, then copied; see module docstring)."""
     cached = _PROTOTYPES.get(task.task_id)
     if cached is None or (cached[0] is not task.scene and cached[0] != task.scene) or pool is not None:
-        floor_pool = (pool if pool is not None else _default_pool()).get(task.floor_plan, frozenset())
+        if pool is not None:
+            floor_pool = pool.get(task.floor_plan, frozenset())
+        else:
+            floor_pool = frozenset(getattr(task, "scene_fixture_ids", ()))
         cached = (task.scene, _build(task, floor_pool))
         if pool is None:
             _PROTOTYPES[task.task_id] = cached

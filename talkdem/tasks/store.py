@@ -45,6 +45,10 @@ class Task(SeedTask):
 
     task_set: str
     reference_plan: tuple[str, ...]
+    scene_fixture_ids: tuple[str, ...] = ()
+    """Ids of fixed objects (faucets, lamps, burners, ...) of this floor plan that any seed trajectory
+    touches: the object poses list only pickupables, and fixtures are the same in every trial of a floor
+    plan. Stored per task so that a task's initial state never depends on which other tasks were selected."""
 
 
 class UnknownTaskError(KeyError):
@@ -54,9 +58,14 @@ class UnknownTaskError(KeyError):
         return str(self.args[0])
 
 
-def make_task(seed: SeedTask, task_set: TaskSet) -> Task:
+def make_task(seed: SeedTask, task_set: TaskSet, fixture_ids: tuple[str, ...] = ()) -> Task:
     fields = {name: getattr(seed, name) for name in SeedTask.__dataclass_fields__}
-    return Task(**fields, task_set=task_set.value, reference_plan=tuple(reference_plan(seed)))
+    return Task(
+        **fields,
+        task_set=task_set.value,
+        reference_plan=tuple(reference_plan(seed)),
+        scene_fixture_ids=tuple(sorted(fixture_ids)),
+    )
 
 
 def task_file(task_set: TaskSet | str, folder: Path | None = None) -> Path:

@@ -6,11 +6,6 @@ import dataclasses
 
 from talkdem.tasks import Task, TaskSet, load_tasks
 
-# The stored reference plan of this task names "find a shelf" where the expert walked to a second shelf
-# six metres away (the plan generator treats any instance of the source receptacle's type as the current
-# location); no placement or find rule can reach the watch. Fix belongs in talkdem/tasks/reference_plan.py.
-KNOWN_REFERENCE_PLAN_GAPS = {"trial_T20190909_031836_927615": "pick up the watch: Cannot find watch to pick up"}
-
 
 def all_tasks() -> list[Task]:
     return [task for task_set in TaskSet for task in load_tasks(task_set)]

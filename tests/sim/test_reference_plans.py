@@ -6,7 +6,7 @@ import subprocess
 import sys
 
 import pytest
-from helpers import KNOWN_REFERENCE_PLAN_GAPS, all_tasks
+from helpers import all_tasks
 
 from talkdem.sim import EndReason, initial_state, run_plan
 from talkdem.sim.goals import check_goals
@@ -19,9 +19,7 @@ def test_there_are_400_tasks() -> None:
     assert len(TASKS) == 400
 
 
-@pytest.mark.parametrize(
-    "task", [t for t in TASKS if t.task_id not in KNOWN_REFERENCE_PLAN_GAPS], ids=lambda t: t.task_id
-)
+@pytest.mark.parametrize("task", TASKS, ids=lambda t: t.task_id)
 def test_reference_plan_succeeds(task: Task) -> None:
     trace = run_plan(task, task.reference_plan)
     assert [(s.skill, s.message) for s in trace.steps if not s.ok] == []
@@ -29,15 +27,6 @@ def test_reference_plan_succeeds(task: Task) -> None:
     assert trace.goal.success, trace.goal.conditions
     assert trace.end_reason is EndReason.DONE
     assert trace.analysis.missing_subgoals == ()
-
-
-def test_known_gaps_still_fail_the_documented_way() -> None:
-    """Keeps the gap list honest: once the plan generator is fixed, this fails and the entry goes."""
-    for task in TASKS:
-        if task.task_id in KNOWN_REFERENCE_PLAN_GAPS:
-            trace = run_plan(task, task.reference_plan)
-            messages = [f"{s.skill}: {s.message}" for s in trace.steps if not s.ok]
-            assert KNOWN_REFERENCE_PLAN_GAPS[task.task_id] in messages
 
 
 def test_no_goal_holds_at_the_start() -> None:
