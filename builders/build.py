@@ -74,7 +74,9 @@ def _generate_verified(
     pending = list(range(len(requests)))
     for attempt in range(1, MAX_ATTEMPTS + 1):
         batch = [
-            GenerationRequest(task, pattern, level, clean, derive_seed(base_seed, task.task_id, pattern, level, attempt))
+            GenerationRequest(
+                task, pattern, level, clean, derive_seed(base_seed, task.task_id, pattern, level, attempt)
+            )
             for task, pattern, level, clean in (requests[i] for i in pending)
         ]
         texts = generator.generate(batch)
@@ -162,7 +164,9 @@ def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[s
     except json.JSONDecodeError:
         found_header = None
     if found_header != header:
-        warnings.warn(f"{path}: checkpoint of another build ({found_header}); starting afresh", CheckpointWarning, stacklevel=2)
+        warnings.warn(
+            f"{path}: checkpoint of another build ({found_header}); starting afresh", CheckpointWarning, stacklevel=2
+        )
         path.unlink()
         return {}
     units: dict[str, list[dict[str, Any]]] = {}
@@ -170,7 +174,9 @@ def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[s
         try:
             record = json.loads(line)
         except json.JSONDecodeError as exc:
-            raise ValueError(f"{path}, line {number}: corrupt checkpoint line ({exc}); delete the file to rebuild") from exc
+            raise ValueError(
+                f"{path}, line {number}: corrupt checkpoint line ({exc}); delete the file to rebuild"
+            ) from exc
         units[record["unit"]] = record["rows"]
     return units
 
@@ -281,7 +287,9 @@ def write_dataset(
             )
     written.append(_write_parquet(memory_rows, talk_dem.MEMORY_BANK_FEATURES, folder / "memory_bank" / "train.parquet"))
     for name, tasks in (("benchmark", benchmark), ("memory", memory)):
-        written.append(_write_parquet([_task_row(t) for t in tasks], talk_dem.TASK_FEATURES, folder / "tasks" / f"{name}.parquet"))
+        written.append(
+            _write_parquet([_task_row(t) for t in tasks], talk_dem.TASK_FEATURES, folder / "tasks" / f"{name}.parquet")
+        )
 
     stats = {
         "build": build_info,
@@ -306,7 +314,7 @@ def dataset_files(folder: Path) -> dict[str, bytes]:
     return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(names) if p.is_file()}
 
 
-# --- the build ---------------------------------------------------------------------------------------------------------
+# --- the build ---------------------------------------------------------------------------------------------------
 def build(
     folder: Path | None = None,
     *,
@@ -341,7 +349,9 @@ def build(
     if not path.is_file():
         _append(path, header)
 
-    bar = tqdm(total=len(todo), initial=resumed, desc="talkdem build", unit="task", disable=not progress, file=sys.stderr)
+    bar = tqdm(
+        total=len(todo), initial=resumed, desc="talkdem build", unit="task", disable=not progress, file=sys.stderr
+    )
     for key, task in todo:
         if key in units:
             continue

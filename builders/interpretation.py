@@ -8,8 +8,23 @@ from talkdem.skills import natural_name
 __all__ = ["interpretation"]
 
 _INSIDE = frozenset(
-    {"Fridge", "Microwave", "GarbageCan", "SinkBasin", "BathtubBasin", "Cabinet", "Drawer", "Safe", "Box", "Bowl",
-     "Mug", "Cup", "Pot", "Pan", "Cart"}
+    {
+        "Fridge",
+        "Microwave",
+        "GarbageCan",
+        "SinkBasin",
+        "BathtubBasin",
+        "Cabinet",
+        "Drawer",
+        "Safe",
+        "Box",
+        "Bowl",
+        "Mug",
+        "Cup",
+        "Pot",
+        "Pan",
+        "Cart",
+    }
 )
 
 

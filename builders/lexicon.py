@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 from functools import cache, lru_cache
+from itertools import pairwise
 
 from talkdem.skills import natural_name
 
@@ -235,7 +236,7 @@ def _find_mentions(text: str) -> tuple[Mention, ...]:
     firsts = _first_words()
     matches = list(_WORD.finditer(text.lower()))
     words = [m.group(0) for m in matches]
-    joined = [not text[a.end() : b.start()].strip() for a, b in zip(matches, matches[1:], strict=False)]
+    joined = [not text[a.end() : b.start()].strip() for a, b in pairwise(matches)]
     found = []
     i = 0
     while i < len(words):

@@ -54,7 +54,7 @@ class LLMGenerator:
             raise FileNotFoundError(f"{self.folder}: no prompt set (expected clean.txt and <pattern>_<level>.txt)")
 
     @cached_property
-    def prompt_version(self) -> str:  # type: ignore[override]
+    def prompt_version(self) -> str:
         digest = hashlib.sha256()
         for path in sorted(self.folder.glob("*.txt")):
             digest.update(path.name.encode() + b"\0" + path.read_bytes())

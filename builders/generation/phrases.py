@@ -71,38 +71,39 @@ CLOSINGS = (
 # --- Referential Imprecision -------------------------------------------------------------------------------
 VAGUE_NOUNS = ("thing", "thingy", "whatsit", "whatchamacallit", "thingamajig", "doodad", "thingamabob")
 IMMEDIATE_CLARIFIERS = (
-    "{vague}, {name}",
     "{vague}, I mean {name}",
-    "{vague}, um, {name}",
-    "{vague}, oh, {name}",
-    "{vague}. {Name}",
+    "{vague}, it's {name}",
+    "{vague}, I think it's {name}",
+    "{vague}, what is it, {name}",
+    "{vague}, oh, it's {name}",
+    "{vague}, you know, {name}",
     "{vague}, that is, {name}",
-    "{vague}, well, {name}",
+    "{vague}, I mean it's {name}",
 )
 DELAYED_CLARIFICATIONS = (
     "{Name}, I mean.",
     "I mean {name}.",
     "It's {name}. That's the one.",
     "{Name}, that's what I'm after.",
-    "Oh, {name}, I should say.",
+    "Oh, it's {name}, I should say.",
     "{Name}. That's what I meant.",
-    "The thing I mean is {name}.",
-    "I'm talking about {name}.",
+    "I'm talking about {name}, you see.",
+    "It's {name} I mean.",
 )
 WORD_SEARCH = (
-    "Oh, what's the word.",
-    "What do you call it.",
-    "Oh, it's on the tip of my tongue.",
-    "Oh dear, the word's gone.",
-    "Now what's it called.",
-    "I can't think of the word.",
+    "Oh, what is it. I know it, I do.",
+    "What do you call it. It's, it's.",
+    "Oh, I know what it is. It's that one.",
+    "What's it called. You know it, I'm sure.",
+    "Now what is it. It'll come to me.",
+    "I can't think what it's called. It's, oh.",
 )
 FINAL_NAMING = (
-    "{Name}. Yes, {name}.",
+    "{Name}. Yes, it's {name}.",
     "{Name}! That's it.",
-    "It's {name}, I think. Yes.",
-    "{Name}, that's the word.",
-    "Ah, {name}. Yes.",
+    "It's {name}, I think. Yes, that's it.",
+    "{Name}, that's it, that's the one.",
+    "Ah, {name}. Yes, that's what it is.",
 )
 SECOND_VAGUE = ("that one", "the one there", "this one", "that thing")
 
@@ -162,7 +163,15 @@ CIRCUMLOCUTIONS: dict[str, tuple[str, ...]] = {
 GENERIC_CIRCUMLOCUTIONS = ("the one I always use", "the one that's usually around here", "the one we had out earlier")
 
 # --- Object Substitution -----------------------------------------------------------------------------------
-IMMEDIATE_REPAIRS = ("no, {name}", "no, sorry, {name}", "I mean {name}", "no, no, {name}", "oops, {name}", "or rather {name}")
+IMMEDIATE_REPAIRS = (
+    "no, no, {name}, {name}",
+    "no, sorry, the, {name}",
+    "I mean {name}, {name}",
+    "no, no, {name}",
+    "oops, no, {name}",
+    "no, the, the, {name}",
+    "or rather {name}, yes, {name}",
+)
 DELAYED_REPAIRS = (
     "Oh, not {comp}. {Name}, I meant {name}.",
     "Wait, no. Not {comp}, {name}.",
@@ -305,4 +314,10 @@ RESUMPTIONS = (
     "So, as I was saying, ",
     "Never mind, ",
 )
-RESTATEMENTS = ("Yes. {restate}", "Now where was I. {restate}", "So. {restate}", "Oh yes. {restate}", "Where was I. Oh. {restate}")
+RESTATEMENTS = (
+    "Yes. {restate}",
+    "Now where was I. {restate}",
+    "So. {restate}",
+    "Oh yes. {restate}",
+    "Where was I. Oh. {restate}",
+)

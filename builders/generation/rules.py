@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from builders.generation import phrases as P
 from builders.generation.base import CLEAN, GenerationRequest
 from builders.lexicon import ALIASES, display_name, find_mentions, mentions_of
-from builders.task_terms import noun_phrase, request_body, state_kind, task_terms
+from builders.task_terms import noun_phrase, request_body, state_kind, task_terms, verb_lemma
 from builders.verification.checks import Context
 from talkdem.skills import categories
 from talkdem.tasks import Task
@@ -29,9 +29,11 @@ from talkdem.tasks import Task
 __all__ = ["RulesGenerator"]
 
 _BOUNDARY_WORDS = frozenset(
-    "on in into onto to inside under by with from and then while using near next at over beside back away "
-    "below above underneath".split()
+    {"on", "in", "into", "onto", "to", "inside", "under", "by", "with", "from", "and", "then", "while", "using"}
+    | {"near", "next", "at", "over", "beside", "back", "away", "below", "above", "underneath"}
 )
+_PARTICLES = frozenset({"on", "off", "up", "down", "away", "back", "in", "out", "over"})
+_FOOD = P.OBJECT_KINDS[0]
 _UNMENTIONABLE = frozenset(
     {"StoveKnob", "ShowerGlass", "LaundryHamperLid", "Sink", "Lamp", "Faucet", "LightSwitch", "ShowerHead"}
 )
@@ -91,7 +93,9 @@ class RulesGenerator:
         body = request_body(task.instruction)
         greeting = rng.choice(P.GREETINGS) + rng.choice(P.GREETING_ENDS)
         # subordinate openings ("while carrying ...") read badly after "could you"
-        frames = P.STATEMENT_FRAMES if body.lower().startswith(("while", "with")) else P.QUESTION_FRAMES + P.STATEMENT_FRAMES
+        frames = (
+            P.STATEMENT_FRAMES if body.lower().startswith(("while", "with")) else P.QUESTION_FRAMES + P.STATEMENT_FRAMES
+        )
         frame = rng.choice(frames)
         request = frame.format(body=body)
         request = _cap(request) if greeting.endswith(("! ", ". ")) or frame.startswith("{body}") else request
@@ -174,6 +178,9 @@ class RulesGenerator:
             if not first < start <= last:
                 continue
             preceded_by_comma = body[:start].rstrip().endswith(",")
+            previous = re.findall(r"[\w']+", body[:start])[-1:]
+            if previous and verb_lemma(previous[0]) and match.group(0).lower() in _PARTICLES:
+                continue  # never split a phrasal verb: "turn, you know, on the lamp"
             if match.group(0).lower() in _BOUNDARY_WORDS or preceded_by_comma:
                 points.append(start)
         np = RulesGenerator._target_np(task, body)
@@ -280,6 +287,8 @@ class RulesGenerator:
         """L1 one remark on another scene object; L2 on to a memory; L3 through memories to unrelated topics."""
         candidates = self._scene_candidates(task)
         rng.shuffle(candidates)
+        # furniture and keepsakes make likelier memories than groceries: food goes last
+        candidates = [c for c in candidates if c not in _FOOD] + [c for c in candidates if c in _FOOD]
         objects = candidates[: {1: 1, 2: 2, 3: 3}[level]]
         stages = [P.DRIFT_NEAR] + [P.DRIFT_MEMORY] * (len(objects) - 1)
         memories = rng.sample(P.DRIFT_MEMORY, len(objects))
@@ -295,7 +304,7 @@ class RulesGenerator:
     def _led(rng: random.Random, sentence: str) -> str:
         """A sentence with an optional discourse lead-in ("Oh, we got ...")."""
         lead = rng.choice(P.DRIFT_LEADS)
-        if lead and not sentence.startswith(("I ", "I'")):
+        if lead and not sentence.startswith(("I ", "I'", "Dad ", "Aunt ", "Everybody")):
             sentence = sentence[:1].lower() + sentence[1:]
         return _cap(lead + sentence)
 

@@ -13,7 +13,9 @@ from pathlib import Path
 __all__ = ["Chunk", "chunk_transcript", "read_chat_folder"]
 
 _REPAIR = re.compile(r"\[//+\]")
-_ANNOTATION = re.compile(r"\[[^\]]*\]|<|>|\(\.+\)|&[-=+]?\w+|\+[./!?\"]+|[@%]\w+(?::\w+)*|\x15[^\x15]*\x15|\bxxx\b|\bwww\b")
+_ANNOTATION = re.compile(
+    r"\[[^\]]*\]|<|>|\(\.+\)|&[-=+]?\w+|\+[./!?\"]+|[@%]\w+(?::\w+)*|\x15[^\x15]*\x15|\bxxx\b|\bwww\b"
+)
 _SPACES = re.compile(r"\s+")
 
 

@@ -32,7 +32,8 @@ MARKERS: dict[str, str] = {
 Markers = dict[str, float]
 
 _VAGUE_NOUNS = frozenset(
-    "thing things thingy thingamajig thingamabob whatsit whatchamacallit doodad gizmo stuff something one ones".split()
+    {"thing", "things", "thingy", "thingamajig", "thingamabob", "whatsit", "whatchamacallit", "doodad", "gizmo"}
+    | {"stuff", "something", "one", "ones"}
 )
 _DISCOURSE = re.compile(
     r"(?:^|(?<=[,.!?]))\s*(?:well|so|you know|i mean|like|anyway|anyhow|actually|oh|um|uh|er|okay|ok|right|"
@@ -73,7 +74,7 @@ def discourse_markers(text: str) -> int:
 
 def _depth(token: Any) -> int:
     depth = 0
-    while token.head is not token:
+    while token.head.i != token.i:  # spaCy makes a new Token object per access: compare indices
         token = token.head
         depth += 1
     return depth

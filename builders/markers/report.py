@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from itertools import pairwise
 from pathlib import Path
 from typing import Any
 
 from builders.markers.measures import MARKERS, PIPELINE, Markers, load_pipeline, text_markers
 
-__all__ = ["DIRECTIONS", "compute_cells", "compare_dementiabank", "directions", "run_markers"]
+__all__ = ["DIRECTIONS", "compare_dementiabank", "compute_cells", "directions", "run_markers"]
 
 DIRECTIONS: tuple[tuple[str, str, int], ...] = (
     ("repair_rate", "object_substitution", +1),
@@ -74,7 +75,7 @@ def directions(cells: dict[str, dict[str, list[Markers]]]) -> list[dict[str, Any
         values = {"clean": _mean(cells["clean"]["0"], marker)}
         values.update({lvl: _mean(cells[pattern][lvl], marker) for lvl in ("1", "2", "3")})
         chain = [values[k] for k in ("clean", "1", "2", "3")]
-        holds = all(sign * (b - a) > 0 for a, b in zip(chain, chain[1:], strict=False))
+        holds = all(sign * (b - a) > 0 for a, b in pairwise(chain))
         out.append(
             {
                 "marker": marker,
@@ -141,7 +142,7 @@ def run_markers(
     write: bool = True,
 ) -> dict[str, Any]:
     """Compute the markers, write `markers.json` and refresh the card (`README.md`, `dataset_card.md`)."""
-    import spacy
+    from importlib.metadata import version
 
     from builders.card import markers_table, render_card
     from talkdem.paths import data_dir, repo_root
@@ -153,7 +154,7 @@ def run_markers(
         for pattern, levels in cells.items()
     }
     report: dict[str, Any] = {
-        "spacy_version": spacy.__version__,
+        "spacy_version": version("spacy"),
         "pipeline": PIPELINE,
         "relevance_encoder": "sentence-transformers/all-MiniLM-L6-v2" if relevance else None,
         "means": means,

@@ -174,9 +174,7 @@ def ri_delayed_clarification(ctx: Context) -> bool:
         return False
     vague, name = found
     first = vague[0][0]
-    other_terms = any(
-        first < s < name for key, occ in ctx.term_positions.items() if key != "role:target" for s in occ
-    )
+    other_terms = any(first < s < name for key, occ in ctx.term_positions.items() if key != "role:target" for s in occ)
     return other_terms or ctx.sentence_breaks(first, name) > 0
 
 
@@ -224,7 +222,9 @@ def os_immediate_correction(ctx: Context) -> bool:
         return False
     comps, _ = found
     after = [s for s in ctx.target_positions() if s > comps[0]]
-    return bool(after) and len(ctx.words_between(comps[0], after[0])) <= 8 and not ctx.sentence_breaks(comps[0], after[0])
+    return (
+        bool(after) and len(ctx.words_between(comps[0], after[0])) <= 8 and not ctx.sentence_breaks(comps[0], after[0])
+    )
 
 
 def os_delayed_correction(ctx: Context) -> bool:
@@ -354,7 +354,9 @@ PATTERN_CHECKS: dict[str, dict[int, tuple[Check, ...]]] = {
     "intrusion": {lvl: (in_interrupts_request, in_resumed) for lvl in (1, 2, 3)},
 }
 CHECKS: dict[str, Check] = {
-    check.__name__: check for group in (COMMON, *(c for lv in PATTERN_CHECKS.values() for c in lv.values())) for check in group
+    check.__name__: check
+    for group in (COMMON, *(c for lv in PATTERN_CHECKS.values() for c in lv.values()))
+    for check in group
 }
 
 

@@ -25,7 +25,8 @@ REPAIR = re.compile(
 """Self-correction cues."""
 
 EMPTY_SPEECH = re.compile(
-    r"(?:\byou know\b|(?<![\w'])well(?=,)|(?<=,)\s*you see(?=,)|(?<=,)\s*like(?=,)|\bsort of\b|\bkind of\b|\band all that\b|"
+    r"(?:\byou know\b|(?<![\w'])well(?=,)|(?<=,)\s*you see(?=,)|(?<=,)\s*like(?=,)|\bsort of\b|\bkind of\b|"
+    r"\band all that\b|"
     r"\band so on\b|\bit is what it is\b|\bthat's how it is\b|\bthat's how it goes\b|\bas they say\b|"
     r"\band what have you\b|\bor whatever\b|\bthis and that\b|\bI don't know\b|\boh dear\b|\blet me see\b|"
     r"\bhow do you say\b|\band everything\b|\bif you follow me\b|\banyhow\b|\bit's all the same\b|"

@@ -22,7 +22,9 @@ def register(subparsers: Any) -> None:
     parser.add_argument("--tasks-dir", type=Path, help="folder holding tasks/*.jsonl (default: data/)")
     parser.add_argument("--checkpoint", type=Path, help="JSONL checkpoint (default: .cache/build/...)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
-    parser.add_argument("--card-copy", type=Path, help="also write the card here (default: dataset_card.md when --out is data/)")
+    parser.add_argument(
+        "--card-copy", type=Path, help="also write the card here (default: dataset_card.md when --out is data/)"
+    )
     parser.add_argument("--throttle", type=float, default=0.0, help=argparse.SUPPRESS)  # resume tests
     parser.set_defaults(handler=run)
 

@@ -10,7 +10,9 @@ __all__ = ["register"]
 
 
 def register(subparsers: Any) -> None:
-    parser = subparsers.add_parser("verify", help='check one utterance: prints {"passed": bool, "failed_checks": [...]}')
+    parser = subparsers.add_parser(
+        "verify", help='check one utterance: prints {"passed": bool, "failed_checks": [...]}'
+    )
     parser.add_argument("--task", required=True, help="ALFRED trial id of a benchmark or memory task")
     parser.add_argument("--pattern", required=True, help="a pattern config name (e.g. topic_drift) or clean")
     parser.add_argument("--level", type=int, default=0, help="1-3 for a pattern (ignored for clean)")

@@ -12,4 +12,3 @@ def reference_build(tmp_path_factory: pytest.TempPathFactory) -> BuildResult:
     """An uninterrupted build with the default generator and seed."""
     root = tmp_path_factory.mktemp("reference")
     return build(root / "data", checkpoint=root / "checkpoint.jsonl", progress=False)
-

@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
+
 from builders.build import BuildResult, CheckpointWarning, build, dataset_files
 from talkdem.paths import repo_root
 
@@ -84,7 +85,9 @@ def test_truncated_checkpoint_line_is_recovered(reference_build: BuildResult, tm
     gen = get_generator("rules")
     lines.append(json.dumps(_header(gen, 0)))
     for task in load_tasks("benchmark")[:4]:
-        lines.append(json.dumps({"unit": f"benchmark:{task.task_id}", "rows": build_unit(gen, task, 0)}, ensure_ascii=False))
+        lines.append(
+            json.dumps({"unit": f"benchmark:{task.task_id}", "rows": build_unit(gen, task, 0)}, ensure_ascii=False)
+        )
     full.write_text("\n".join(lines) + "\n")
     checkpoint.write_text("\n".join(lines[:4]) + "\n" + lines[4][: len(lines[4]) // 2])
 
@@ -100,7 +103,9 @@ def test_checkpoint_of_another_build_is_discarded(tmp_path: Path) -> None:
     checkpoint = tmp_path / "checkpoint.jsonl"
     checkpoint.write_text(json.dumps({"checkpoint": 1, "generator": "rules", "prompt_version": "x", "seed": 7}) + "\n")
     with pytest.warns(CheckpointWarning, match="another build"):
-        assert read_checkpoint(checkpoint, {"checkpoint": 1, "generator": "rules", "prompt_version": "x", "seed": 0}) == {}
+        assert (
+            read_checkpoint(checkpoint, {"checkpoint": 1, "generator": "rules", "prompt_version": "x", "seed": 0}) == {}
+        )
     assert not checkpoint.exists()
 
 
@@ -114,3 +119,36 @@ def test_another_seed_gives_other_utterances(tmp_path: Path) -> None:
     first, again, other = build_unit(gen, task, 0), build_unit(gen, task, 0), build_unit(gen, task, 1)
     assert first == again
     assert [r["instruction"] for r in first] != [r["instruction"] for r in other]
+
+
+def test_failing_variants_are_regenerated_then_kept_with_their_checks() -> None:
+    from collections.abc import Sequence
+
+    from builders.build import build_unit, verification_stats
+    from builders.generation import GenerationRequest, RulesGenerator
+    from talkdem.tasks import load_tasks
+
+    class Flaky(RulesGenerator):
+        """Drops the target on a first attempt (topic drift) and always (intrusion level 3)."""
+
+        def __init__(self) -> None:
+            self.seen: set[tuple[str, int]] = set()
+
+        def generate(self, requests: Sequence[GenerationRequest]) -> list[str]:
+            out = super().generate(requests)
+            for i, r in enumerate(requests):
+                first = (r.pattern, r.level) not in self.seen and r.pattern == "topic_drift"
+                self.seen.add((r.pattern, r.level))
+                if first or (r.pattern == "intrusion" and r.level == 3):
+                    out[i] = "Hello! Could you do that thing for me?"
+            return out
+
+    rows = build_unit(Flaky(), load_tasks("benchmark")[0], 0)
+    by_cell = {(r["pattern"], r["level"]): r["verification"] for r in rows}
+    assert by_cell[("topic_drift", 1)] == {"passed": True, "failed_checks": [], "attempts": 2}
+    kept = by_cell[("intrusion", 3)]
+    assert kept["passed"] is False and kept["attempts"] == 3 and "target_object" in kept["failed_checks"]
+    stats = verification_stats(rows)
+    assert stats["first_attempt_passed"] == 11 and stats["regenerated"] == 4
+    assert stats["second_attempt_passed"] == 3 and stats["third_attempt"] == 1
+    assert stats["kept_with_failed_checks"] == 1 and stats["failed_checks"]["target_object"] == 1

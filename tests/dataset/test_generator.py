@@ -23,7 +23,9 @@ def generate(task: Task, pattern: str, level: int, seed: int = 0) -> str:
     clean = gen.generate_one(GenerationRequest(task, "clean", 0, "", derive_seed(seed, task.task_id, "clean", 0, 1)))
     if pattern == "clean":
         return clean
-    return gen.generate_one(GenerationRequest(task, pattern, level, clean, derive_seed(seed, task.task_id, pattern, level, 1)))
+    return gen.generate_one(
+        GenerationRequest(task, pattern, level, clean, derive_seed(seed, task.task_id, pattern, level, 1))
+    )
 
 
 def test_same_seed_same_output(tasks: tuple[Task, ...]) -> None:

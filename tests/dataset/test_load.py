@@ -54,7 +54,13 @@ def test_rows_carry_ids_clean_seed_params_verification_and_provenance(tmp_path: 
     assert row["id"] == f"{row['task_id']}:topic_drift:3"
     assert row["instruction"] != row["clean_instruction"]
     assert row["seed_instruction"]
-    assert set(row["pddl_params"]) == {"object_target", "parent_target", "mrecep_target", "toggle_target", "object_sliced"}
+    assert set(row["pddl_params"]) == {
+        "object_target",
+        "parent_target",
+        "mrecep_target",
+        "toggle_target",
+        "object_sliced",
+    }
     assert set(row["verification"]) == {"passed", "failed_checks", "attempts"}
     assert row["generator"] == "rules" and row["prompt_version"] and isinstance(row["seed"], int)
 

@@ -75,7 +75,7 @@ COMMON_CASES = [
     ),
 ]
 
-# --- pattern checks ----------------------------------------------------------------------------------------------------
+# --- pattern checks ---
 PATTERN_CASES = [
     (
         "ri_vague_first",
@@ -191,7 +191,9 @@ def test_every_check_has_a_case() -> None:
     assert covered == set(CHECKS)
 
 
-@pytest.mark.parametrize(("check", "task_id", "pattern", "level", "good", "bad"), COMMON_CASES, ids=[c[0] for c in COMMON_CASES])
+@pytest.mark.parametrize(
+    ("check", "task_id", "pattern", "level", "good", "bad"), COMMON_CASES, ids=[c[0] for c in COMMON_CASES]
+)
 def test_common_check(check: str, task_id: str, pattern: str, level: int, good: str, bad: str) -> None:
     assert check not in failed(task_id, pattern, level, good)
     assert check in failed(task_id, pattern, level, bad)

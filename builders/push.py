@@ -1,0 +1,41 @@
+"""Publish the dataset folder to the Hugging Face Hub (`talkdem push --repo ORG/NAME`)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+__all__ = ["ALLOW_PATTERNS", "push", "upload_plan"]
+
+ALLOW_PATTERNS = ("README.md", "*/*.parquet", "build_stats.json", "markers.json", "markers.md")
+"""What a dataset repository holds: the card (with its YAML configs), the Parquet files and the reports.
+The task JSONL files and the selection reports under `data/` are build inputs, summarized by the `tasks` config."""
+
+
+def upload_plan(folder: Path) -> list[str]:
+    """The paths (relative to `folder`) that `push` uploads, in the order `upload_folder` sees them."""
+    from huggingface_hub.utils._paths import filter_repo_objects
+
+    folder = Path(folder)
+    if not (folder / "README.md").is_file():
+        raise FileNotFoundError(f"{folder}: no README.md card (run `talkdem build` first)")
+    files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
+    return list(filter_repo_objects(files, allow_patterns=list(ALLOW_PATTERNS)))
+
+
+def push(folder: Path, repo: str, *, private: bool = False, message: str = "Upload TALK-Dem") -> str:
+    """Create the dataset repository if needed and upload the planned files; returns the commit URL."""
+    from huggingface_hub import HfApi
+
+    if repo.count("/") != 1:
+        raise ValueError(f"--repo must be ORG/NAME, got '{repo}'")
+    upload_plan(folder)  # fails early on a folder without a card
+    api = HfApi()
+    api.create_repo(repo, repo_type="dataset", private=private, exist_ok=True)
+    commit = api.upload_folder(
+        repo_id=repo,
+        repo_type="dataset",
+        folder_path=str(folder),
+        allow_patterns=list(ALLOW_PATTERNS),
+        commit_message=message,
+    )
+    return str(getattr(commit, "commit_url", commit))

@@ -1,0 +1,154 @@
+"""A result cache that wraps any backend: answers already computed are read from SQLite, not the model.
+
+Every entry is keyed by the sha256 of (model identity key, method, request fields), so a different model,
+weights file (its content hash is in the identity) or served endpoint never reads another's results.
+Only the misses of a batch go to the model, in one call, in their original order.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import sqlite3
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import closing
+from pathlib import Path
+from typing import Any, TypeVar
+
+from talkdem.llm.base import LanguageModel
+from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+
+__all__ = ["CachedLM", "cache_key"]
+
+_T = TypeVar("_T")
+_LOOKUP_CHUNK = 500  # well under SQLite's limit on bound parameters
+
+
+def cache_key(identity_key: str, method: str, fields: Sequence[Any]) -> str:
+    """sha256 of the JSON of (model identity, method, request fields)."""
+    blob = json.dumps([identity_key, method, list(fields)], ensure_ascii=False, separators=(",", ":"))
+    return hashlib.sha256(blob.encode()).hexdigest()
+
+
+class CachedLM(LanguageModel):
+    """`inner` behind a SQLite cache at `path`; `hits` and `misses` count answered requests.
+
+    `score_continuations` (the SayCan fast path) and `encode` exist only when `inner` has them, so the
+    planner picks the same path through the cache as without it.
+    """
+
+    def __init__(self, inner: LanguageModel, path: str | Path) -> None:
+        self.inner = inner
+        self.identity = inner.identity
+        self.supports_loglikelihood = inner.supports_loglikelihood
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.hits = 0
+        self.misses = 0
+        self._lock = threading.Lock()
+        self._db = sqlite3.connect(str(self.path), check_same_thread=False)
+        self._db.execute("PRAGMA journal_mode=WAL")
+        self._db.execute("CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, value TEXT NOT NULL)")
+        self._db.commit()
+        inner_scorer = getattr(inner, "score_continuations", None)
+        if inner_scorer is not None:
+            self.score_continuations: Callable[[str, Sequence[str]], list[float]] = self._cached_scorer(inner_scorer)
+        inner_encode = getattr(inner, "encode", None)
+        if inner_encode is not None:
+            self.encode: Callable[[str], list[int]] = inner_encode
+
+    # -- the interface --------------------------------------------------------------------------------
+    def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
+        return self._through_cache(
+            "loglikelihood",
+            [(r.context, r.continuation) for r in requests],
+            lambda indices: self.inner.loglikelihood([requests[i] for i in indices]),
+        )
+
+    def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
+        return self._through_cache(
+            "generate",
+            [(r.prompt, r.max_new_tokens, list(r.stop)) for r in requests],
+            lambda indices: self.inner.generate([requests[i] for i in indices]),
+        )
+
+    def _cached_scorer(self, inner_scorer: Callable[..., list[float]]) -> Callable[[str, Sequence[str]], list[float]]:
+        def score_continuations(context: str, continuations: Sequence[str]) -> list[float]:
+            return self._through_cache(
+                "score_continuations",
+                [(context, c) for c in continuations],
+                lambda indices: list(inner_scorer(context, [continuations[i] for i in indices])),
+            )
+
+        return score_continuations
+
+    def close(self) -> None:
+        with self._lock:
+            self._db.close()
+
+    def __enter__(self) -> CachedLM:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def __len__(self) -> int:
+        with self._lock, closing(self._db.execute("SELECT COUNT(*) FROM results")) as cursor:
+            count: int = cursor.fetchone()[0]
+        return count
+
+    # -- the cache ------------------------------------------------------------------------------------
+    def _through_cache(
+        self,
+        method: str,
+        fields: Sequence[Sequence[Any]],
+        compute: Callable[[list[int]], list[_T]],
+    ) -> list[_T]:
+        keys = [cache_key(self.identity.key(), method, f) for f in fields]
+        found = self._lookup(keys)
+        missing = [i for i, key in enumerate(keys) if key not in found]
+        results: list[Any] = [found.get(key) for key in keys]
+        if missing:
+            # Identical requests in one batch go to the model once.
+            unique = list(dict.fromkeys(keys[i] for i in missing))
+            first_index: dict[str, int] = {}
+            for i in missing:
+                first_index.setdefault(keys[i], i)
+            computed = compute([first_index[key] for key in unique])
+            if len(computed) != len(unique):
+                raise RuntimeError(
+                    f"{self.identity.key()}: {method} returned {len(computed)} results for {len(unique)} requests"
+                )
+            fresh = dict(zip(unique, computed, strict=True))
+            self._store(fresh)
+            for i in missing:
+                results[i] = fresh[keys[i]]
+        with self._lock:
+            self.hits += len(keys) - len(missing)
+            self.misses += len(missing)
+        return results
+
+    def _lookup(self, keys: Sequence[str]) -> dict[str, Any]:
+        found: dict[str, Any] = {}
+        unique = list(dict.fromkeys(keys))
+        with self._lock:
+            for chunk in _chunks(unique, _LOOKUP_CHUNK):
+                placeholders = ",".join("?" * len(chunk))
+                query = f"SELECT key, value FROM results WHERE key IN ({placeholders})"
+                with closing(self._db.execute(query, chunk)) as cursor:
+                    found.update((key, json.loads(value)) for key, value in cursor)
+        return found
+
+    def _store(self, entries: dict[str, Any]) -> None:
+        with self._lock:
+            self._db.executemany(
+                "INSERT OR REPLACE INTO results (key, value) VALUES (?, ?)",
+                [(key, json.dumps(value)) for key, value in entries.items()],
+            )
+            self._db.commit()
+
+
+def _chunks(items: Sequence[str], size: int) -> Iterator[list[str]]:
+    for start in range(0, len(items), size):
+        yield list(items[start : start + size])

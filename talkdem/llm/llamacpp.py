@@ -1,0 +1,227 @@
+"""llama.cpp in process (llama-cpp-python, the optional extra `talkdem[llamacpp]`): GGUF files on CPU.
+
+Prompt log-likelihoods are read from the logits of every evaluated position (`logits_all=True`), never
+from `create_completion(echo=True, logprobs=...)`, which is off by one position for models without a BOS
+token such as SmolLM2. Scoring many continuations of one context (SayCan's inner loop):
+
+1. The context is evaluated once. The next call keeps the longest common token prefix with what the
+   context already holds (the next SayCan step appends a few tokens; the next episode shares the few-shot
+   examples) and evaluates only the rest.
+2. Candidates are visited in token order, so consecutive candidates share their beginnings (" find a",
+   " pick up the"): for each one the context is cut back (`n_tokens`) to the prompt plus the part shared
+   with the previous candidate, and only the candidate's remaining tokens are evaluated. Its last token
+   never needs a pass (its probability comes from the position before it).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256
+from talkdem.llm.default_model import DEFAULT_MODEL_NAME, default_model_path
+from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+
+__all__ = ["LlamaCppLM"]
+
+_MISSING = (
+    "llama-cpp-python is not installed: install the optional extra with `pip install -e '.[llamacpp]'` "
+    "(or `pip install 'talkdem[llamacpp]'`; it compiles llama.cpp, about 5-6 minutes on 2 cores)"
+)
+
+
+def _resolve(model: str) -> tuple[Path, str]:
+    if model in (DEFAULT_MODEL_NAME, "default"):
+        return default_model_path(), DEFAULT_MODEL_NAME
+    path = Path(model).expanduser()
+    if not path.is_file():
+        raise FileNotFoundError(f"{model}: the llamacpp backend needs a GGUF file (or 'default')")
+    return path, str(path)
+
+
+def _log_softmax(logits: NDArray[np.float32]) -> NDArray[np.float64]:
+    values = logits.astype(np.float64)
+    shifted = values - values.max()
+    result: NDArray[np.float64] = shifted - np.log(np.exp(shifted).sum())
+    return result
+
+
+def _log_sum_exp(logits: NDArray[np.float32]) -> float:
+    values = logits.astype(np.float64)
+    peak = float(values.max())
+    return peak + float(np.log(np.exp(values - peak).sum()))
+
+
+def _common_prefix(a: Sequence[int], b: Sequence[int]) -> int:
+    common = 0
+    for x, y in zip(a, b, strict=False):
+        if x != y:
+            break
+        common += 1
+    return common
+
+
+class LlamaCppLM(LanguageModel):
+    """A GGUF model run by llama.cpp in this process.
+
+    Args:
+        model: a GGUF file, or `default` for the embedded SmolLM2-135M-Instruct.
+        n_ctx: context length in tokens; the logits of every position are kept (n_ctx x vocabulary floats).
+        threads: CPU threads (llama.cpp's default when None).
+        chat_template: wrap generation prompts in the GGUF's chat template when it has one.
+    """
+
+    def __init__(
+        self,
+        model: str,
+        n_ctx: int = 4096,
+        threads: int | None = None,
+        n_batch: int = 512,
+        chat_template: bool = True,
+        seed: int = 0,
+    ) -> None:
+        try:
+            from llama_cpp import Llama
+        except ImportError as error:
+            raise ImportError(_MISSING) from error
+        path, name = _resolve(model)
+        self.path = path
+        self._llm: Any = Llama(
+            model_path=str(path),
+            n_ctx=n_ctx,
+            n_batch=n_batch,
+            n_threads=threads,
+            n_threads_batch=threads,
+            logits_all=True,
+            seed=seed,
+            verbose=False,
+        )
+        self.identity = ModelIdentity(backend="llamacpp", name=name, revision=file_sha256(path))
+        self.use_chat_template = chat_template and bool(self._llm.metadata.get("tokenizer.chat_template"))
+        self._next_logprobs: NDArray[np.float64] | None = None
+
+    # -- tokenization, done once and centrally -------------------------------------------------------
+    def encode(self, text: str) -> list[int]:
+        ids: list[int] = self._llm.tokenize(text.encode(), add_bos=False, special=False)
+        return ids
+
+    def context_ids(self, context: str) -> list[int]:
+        """The context's tokens, with BOS when the model's metadata asks for it (SmolLM2 does not)."""
+        ids: list[int] = self._llm.tokenize(context.encode(), add_bos=True, special=False)
+        return ids
+
+    # -- scoring --------------------------------------------------------------------------------------
+    def _advance_to(self, ids: Sequence[int]) -> NDArray[np.float64]:
+        """Hold exactly `ids` in the context; return log p(next token | ids)."""
+        if not ids:
+            raise ValueError("the context must have at least one token")
+        llm = self._llm
+        held = llm.input_ids[: llm.n_tokens].tolist()
+        if held == list(ids) and self._next_logprobs is not None:
+            return self._next_logprobs
+        # Keep at least one token to evaluate, so that the last position's logits are fresh.
+        keep = min(_common_prefix(held, ids), len(ids) - 1)
+        llm.n_tokens = keep
+        self._next_logprobs = None
+        llm.eval(list(ids[keep:]))
+        self._next_logprobs = _log_softmax(llm.scores[len(ids) - 1])
+        return self._next_logprobs
+
+    def _check_fits(self, context_length: int, continuations: Sequence[Sequence[int]]) -> None:
+        longest = max((len(c) for c in continuations), default=0)
+        if context_length + longest > self._llm.n_ctx():
+            raise ValueError(
+                f"context ({context_length} tokens) plus the longest continuation ({longest}) exceeds "
+                f"n_ctx={self._llm.n_ctx()}: create the model with a larger n_ctx"
+            )
+        if any(len(c) == 0 for c in continuations):
+            raise ValueError("every continuation must have at least one token")
+
+    def score_token_continuations(self, context: Sequence[int], continuations: Sequence[Sequence[int]]) -> list[float]:
+        """Summed log p(continuation | context) per continuation, all given as token ids."""
+        self._check_fits(len(context), continuations)
+        first = self._advance_to(context)
+        llm, prefix = self._llm, len(context)
+        scores = [float(first[c[0]]) for c in continuations]
+        held: list[int] = []  # candidate tokens currently evaluated after the prefix
+        normalizers: dict[int, float] = {}  # log-sum-exp of a row's logits, while the row stays valid
+        for index in sorted(range(len(continuations)), key=lambda i: list(continuations[i])):
+            continuation = list(continuations[index])
+            path = continuation[:-1]
+            if not path:
+                continue
+            common = _common_prefix(held, path)
+            if common < len(path):
+                llm.n_tokens = prefix + common
+                llm.eval(path[common:])
+                held = path
+                for row in [r for r in normalizers if r >= prefix + common]:
+                    del normalizers[row]
+            for j in range(len(path)):
+                row = prefix + j
+                if row not in normalizers:
+                    normalizers[row] = _log_sum_exp(llm.scores[row])
+                scores[index] += float(llm.scores[row, continuation[j + 1]]) - normalizers[row]
+        llm.n_tokens = prefix  # the candidates are gone; the context stays for the next call
+        return scores
+
+    def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
+        """Fast path: the context once (over the previous call's shared prefix), then each candidate's tail."""
+        return self.score_token_continuations(self.context_ids(context), [self.encode(c) for c in continuations])
+
+    def naive_score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
+        """Reference path: context + continuation evaluated from scratch for every continuation."""
+        context_ids = self.context_ids(context)
+        token_continuations = [self.encode(c) for c in continuations]
+        self._check_fits(len(context_ids), token_continuations)
+        llm, prefix = self._llm, len(context_ids)
+        scores = []
+        for continuation in token_continuations:
+            llm.reset()
+            llm.eval(context_ids + continuation)
+            scores.append(
+                sum(float(_log_softmax(llm.scores[prefix - 1 + j])[token]) for j, token in enumerate(continuation))
+            )
+        llm.reset()
+        self._next_logprobs = None
+        return scores
+
+    def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
+        by_context: dict[str, list[int]] = {}
+        for i, request in enumerate(requests):
+            by_context.setdefault(request.context, []).append(i)
+        results = [0.0] * len(requests)
+        for context, indices in by_context.items():
+            scores = self.score_continuations(context, [requests[i].continuation for i in indices])
+            for i, score in zip(indices, scores, strict=True):
+                results[i] = score
+        return results
+
+    # -- generation -----------------------------------------------------------------------------------
+    def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
+        outputs = []
+        for request in requests:
+            # llama-cpp-python samples from the last decoded logits when the prompt is already held in full;
+            # after scoring those belong to a candidate, so drop the last held token to force a fresh pass.
+            self._llm.n_tokens = max(0, self._llm.n_tokens - 1)
+            self._next_logprobs = None
+            options: dict[str, Any] = {
+                "max_tokens": request.max_new_tokens,
+                "temperature": 0.0,
+                "repeat_penalty": 1.0,
+                "stop": [s for s in request.stop if s] or None,
+            }
+            if self.use_chat_template:
+                response = self._llm.create_chat_completion(
+                    messages=[{"role": "user", "content": request.prompt}], **options
+                )
+                text = response["choices"][0]["message"]["content"] or ""
+            else:
+                response = self._llm.create_completion(request.prompt, **options)
+                text = response["choices"][0]["text"]
+            outputs.append(cut_at_stop(str(text), request.stop).strip())
+        return outputs

@@ -1,0 +1,170 @@
+"""vLLM's offline engine (GPU users): log-likelihoods from prompt logprobs, batched generation.
+
+NOT TESTED IN THIS PROJECT: our machines have no GPU and vLLM is not installed. The unit tests cover only
+what runs without vLLM (the clear error when it is missing, and the pure request planning and logprob
+summing below). `vllm` is imported only when a `VLLMLM` is created.
+
+Sharing is done here, not by vLLM: requests that ask for prompt logprobs bypass vLLM's prefix cache, and
+prefix caching has been reported to make prompt logprobs nondeterministic, so the engine is started with
+`enable_prefix_caching=False`. Each context is tokenized once; identical (context, continuation) pairs and
+continuations whose tokens are a prefix of another continuation of the same context are answered from one
+sequence's prompt logprobs; all remaining sequences go to the engine in one batched call.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop
+from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+
+__all__ = ["VLLMLM", "ScoringPlan", "plan_scoring", "sum_prompt_logprobs"]
+
+_MISSING = "vLLM is not installed: install it on a machine with a GPU (`pip install vllm`, see docs.vllm.ai)"
+
+
+@dataclass(frozen=True)
+class ScoringPlan:
+    """Which token sequences to send, and where each request's continuation lies in one of them."""
+
+    sequences: list[list[int]]
+    spans: list[tuple[int, int, int]]
+    """Per request: (sequence index, first continuation position, end position)."""
+
+
+def plan_scoring(
+    requests: Sequence[LoglikelihoodRequest],
+    encode_context: Callable[[str], list[int]],
+    encode_continuation: Callable[[str], list[int]],
+) -> ScoringPlan:
+    """Tokenize each context once; a continuation that is a token prefix of another one rides along with it."""
+    context_ids: dict[str, list[int]] = {}
+    per_request: list[tuple[str, tuple[int, ...]]] = []
+    for request in requests:
+        if request.context not in context_ids:
+            context_ids[request.context] = encode_context(request.context)
+        continuation = tuple(encode_continuation(request.continuation))
+        if not continuation:
+            raise ValueError(f"empty continuation {request.continuation!r}: nothing to score")
+        if not context_ids[request.context]:
+            raise ValueError("the context must have at least one token")
+        per_request.append((request.context, continuation))
+    # For each context, keep the continuations that are not a strict prefix of another one.
+    carriers: dict[tuple[str, tuple[int, ...]], int] = {}
+    sequences: list[list[int]] = []
+    by_context: dict[str, list[tuple[int, ...]]] = {}
+    for context, continuation in per_request:
+        by_context.setdefault(context, []).append(continuation)
+    for context, continuations in by_context.items():
+        ordered = sorted(set(continuations), key=lambda c: (-len(c), c))
+        for continuation in ordered:
+            carrier = next(
+                (c for c in ordered if len(c) > len(continuation) and c[: len(continuation)] == continuation), None
+            )
+            if carrier is None:
+                carriers[(context, continuation)] = len(sequences)
+                sequences.append(context_ids[context] + list(continuation))
+            else:
+                carriers[(context, continuation)] = carriers[(context, carrier)]
+    spans = []
+    for context, continuation in per_request:
+        start = len(context_ids[context])
+        spans.append((carriers[(context, continuation)], start, start + len(continuation)))
+    return ScoringPlan(sequences, spans)
+
+
+def sum_prompt_logprobs(
+    prompt_logprobs: Sequence[Mapping[int, Any] | None], token_ids: Sequence[int], start: int, end: int
+) -> float:
+    """Sum of log p(token_ids[i] | token_ids[:i]) for i in [start, end), from vLLM's `prompt_logprobs`.
+
+    vLLM gives, per prompt position, a dict from token id to a `Logprob` (with `.logprob`) that always holds
+    the actual prompt token; position 0 has none.
+    """
+    total = 0.0
+    for position in range(start, end):
+        entry = prompt_logprobs[position]
+        if entry is None or token_ids[position] not in entry:
+            raise ValueError(f"no prompt logprob for position {position}")
+        value = entry[token_ids[position]]
+        total += float(getattr(value, "logprob", value))
+    return total
+
+
+class VLLMLM(LanguageModel):
+    """A model served by vLLM's offline `LLM` engine in this process (one or more GPUs).
+
+    `engine_options` go to `vllm.LLM` unchanged (e.g. `max_model_len`, `quantization`).
+    """
+
+    def __init__(
+        self,
+        model: str,
+        tensor_parallel_size: int = 1,
+        dtype: str = "auto",
+        gpu_memory_utilization: float = 0.9,
+        seed: int = 0,
+        chat_template: bool = True,
+        revision: str | None = None,
+        **engine_options: Any,
+    ) -> None:
+        try:
+            import vllm
+        except ImportError as error:
+            raise ImportError(_MISSING) from error
+        engine_options.setdefault("enable_prefix_caching", False)
+        self._llm = vllm.LLM(
+            model=model,
+            tensor_parallel_size=tensor_parallel_size,
+            dtype=dtype,
+            gpu_memory_utilization=gpu_memory_utilization,
+            seed=seed,
+            revision=revision,
+            **engine_options,
+        )
+        self._vllm = vllm
+        self.tokenizer = self._llm.get_tokenizer()
+        self.use_chat_template = chat_template and bool(getattr(self.tokenizer, "chat_template", None))
+        self.identity = ModelIdentity(backend="vllm", name=model, revision=revision or "")
+
+    def encode(self, text: str) -> list[int]:
+        ids: list[int] = self.tokenizer(text, add_special_tokens=False).input_ids
+        return ids
+
+    def _context_ids(self, context: str) -> list[int]:
+        ids = self.encode(context)
+        bos = getattr(self.tokenizer, "bos_token_id", None)
+        if bos is not None and getattr(self.tokenizer, "add_bos_token", False):
+            ids = [bos, *ids]
+        return ids
+
+    def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
+        return self.loglikelihood([LoglikelihoodRequest(context, c) for c in continuations])
+
+    def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
+        if not requests:
+            return []
+        plan = plan_scoring(requests, self._context_ids, self.encode)
+        params = self._vllm.SamplingParams(max_tokens=1, temperature=0.0, prompt_logprobs=0)
+        prompts = [{"prompt_token_ids": ids} for ids in plan.sequences]
+        outputs = self._llm.generate(prompts, params, use_tqdm=False)
+        return [
+            sum_prompt_logprobs(outputs[index].prompt_logprobs, plan.sequences[index], start, end)
+            for index, start, end in plan.spans
+        ]
+
+    def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
+        if not requests:
+            return []
+        params = [
+            self._vllm.SamplingParams(temperature=0.0, max_tokens=r.max_new_tokens, stop=[s for s in r.stop if s])
+            for r in requests
+        ]
+        if self.use_chat_template:
+            conversations = [[{"role": "user", "content": r.prompt}] for r in requests]
+            outputs = self._llm.chat(conversations, params, use_tqdm=False)
+        else:
+            outputs = self._llm.generate([r.prompt for r in requests], params, use_tqdm=False)
+        return [cut_at_stop(o.outputs[0].text, r.stop).strip() for o, r in zip(outputs, requests, strict=True)]

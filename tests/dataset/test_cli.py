@@ -1,0 +1,57 @@
+"""`talkdem verify` and the command registry."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from talkdem.cli import build_parser, main
+
+POTATO = "trial_T20190909_152050_792044"
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, dict[str, object]]:
+    code = main(list(argv))
+    return code, json.loads(capsys.readouterr().out)
+
+
+def test_verify_passing(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out = run(
+        capsys,
+        "verify",
+        "--task",
+        POTATO,
+        "--pattern",
+        "clean",
+        "--text",
+        "Hi! Could you put a heated potato on the counter?",
+    )
+    assert code == 0 and out == {"passed": True, "failed_checks": []}
+
+
+def test_verify_failing(capsys: pytest.CaptureFixture[str]) -> None:
+    text = "Hi! Could you put a heated potato on the counter? The television is new."
+    code, out = run(capsys, "verify", "--task", POTATO, "--pattern", "topic_drift", "--level", "1", "--text", text)
+    assert code == 0 and out["passed"] is False and "scene_objects" in out["failed_checks"]
+
+
+def test_verify_unknown_task_and_pattern(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["verify", "--task", "trial_nope", "--pattern", "clean", "--text", "hi"]) == 2
+    assert main(["verify", "--task", POTATO, "--pattern", "mumbling", "--level", "1", "--text", "hi"]) == 2
+    assert "unknown pattern" in capsys.readouterr().err
+
+
+def test_new_commands_are_registered() -> None:
+    parser = build_parser()
+    for command in ("build", "verify", "markers", "push"):
+        assert parser.parse_args(_minimal(command)).command == command
+
+
+def _minimal(command: str) -> list[str]:
+    return {
+        "build": ["build"],
+        "verify": ["verify", "--task", "t", "--pattern", "clean", "--text", "x"],
+        "markers": ["markers"],
+        "push": ["push", "--repo", "o/n"],
+    }[command]

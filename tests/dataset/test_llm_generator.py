@@ -1,0 +1,82 @@
+"""The LLM generator behind the same interface, exercised with a stub backend (real backends come later)."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+import talk_dem
+from builders.generation import GenerationRequest
+from builders.generation.llm import PROMPTS_DIR, LLMGenerator, room_of, scene_list
+from talkdem.tasks import get_task
+
+POTATO = "trial_T20190909_152050_792044"
+
+
+class EchoBackend:
+    """Returns a fixed utterance per prompt and records the prompts."""
+
+    def __init__(self) -> None:
+        self.prompts: list[str] = []
+
+    def generate(self, prompts: list[str]) -> list[str]:
+        self.prompts.extend(prompts)
+        return [
+            f'  "Hello, could you put a heated potato on the counter?"\nextra line {i}' for i in range(len(prompts))
+        ]
+
+
+def test_sixteen_versioned_prompts() -> None:
+    names = {p.stem for p in (PROMPTS_DIR / "v1").glob("*.txt")}
+    expected = {"clean"} | {f"{p}_{lvl}" for p in talk_dem.PATTERNS for lvl in talk_dem.LEVELS}
+    assert names == expected
+
+
+def test_paper_prompts_are_verbatim() -> None:
+    clean = (PROMPTS_DIR / "v1" / "clean.txt").read_text()
+    assert "Begin with a brief, simple, familiar everyday greeting." in clean
+    assert "This utterance is a clean conversational control." in clean
+    ri1 = (PROMPTS_DIR / "v1" / "referential_imprecision_1.txt").read_text()
+    assert "then immediately give the explicit object name {object} as a brief self-clarification." in ri1
+
+
+def test_prompts_are_filled_and_sent_in_one_batch() -> None:
+    backend = EchoBackend()
+    gen = LLMGenerator(backend)
+    task = get_task(POTATO)
+    requests = [GenerationRequest(task, "clean", 0, "", 1)] + [
+        GenerationRequest(task, p, lvl, "Hi! Put a heated potato on the counter.", 2)
+        for p in talk_dem.PATTERNS
+        for lvl in talk_dem.LEVELS
+    ]
+    outputs = gen.generate(requests)
+    assert len(backend.prompts) == 16
+    assert outputs[0] == "Hello, could you put a heated potato on the counter?"
+    assert "Put a heated potato on the counter." in backend.prompts[0]  # the seed for conversationalization
+    assert all("Hi! Put a heated potato on the counter." in p for p in backend.prompts[1:])
+    assert not any(re.search(r"\{(clean|object|scene)\}", p) for p in backend.prompts)
+    drift = backend.prompts[1 + 3 * list(talk_dem.PATTERNS).index("topic_drift")]
+    assert "A kitchen containing only the following items" in drift and "toaster" in drift
+
+
+def test_prompt_version_names_folder_and_content() -> None:
+    version = LLMGenerator(EchoBackend()).prompt_version
+    assert re.fullmatch(r"v1\+[0-9a-f]{10}", version)
+
+
+def test_backend_answer_count_is_checked() -> None:
+    class Short:
+        def generate(self, prompts: list[str]) -> list[str]:
+            return []
+
+    with pytest.raises(ValueError, match="completions"):
+        LLMGenerator(Short()).generate([GenerationRequest(get_task(POTATO), "clean", 0, "", 1)])
+
+
+def test_scene_list_matches_the_paper_form() -> None:
+    assert room_of("FloorPlan218") == "living room" and room_of("FloorPlan5") == "kitchen"
+    assert (
+        scene_list("FloorPlan301", ["DeskLamp", "Bed"])
+        == "A bedroom containing only the following items:\n\nbed, desk lamp"
+    )

@@ -1,0 +1,110 @@
+"""The llama.cpp backend on the embedded SmolLM2-135M GGUF: its scores against the HF backend's and against its
+own naive scorer, on a real SayCan prompt. Needs the `llamacpp` extra (`make test` installs it).
+"""
+
+from __future__ import annotations
+
+import sys
+
+import pytest
+
+from talkdem.llm.hf import HFCausalLM
+from talkdem.llm.llamacpp import LlamaCppLM
+from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.planner import PlannerInput, SayCanPlanner
+from talkdem.planner.prompt import append_step
+from talkdem.skills import vocabulary
+from talkdem.tasks import load_tasks
+
+SKILLS = [" " + skill.text for skill in vocabulary()]
+SAMPLE = SKILLS[::36]  # 6 candidates across the verbs: the naive scorer runs the whole prompt for each
+
+
+@pytest.fixture(scope="module")
+def llama() -> LlamaCppLM:
+    return LlamaCppLM("default", threads=2)
+
+
+@pytest.fixture(scope="module")
+def hf() -> HFCausalLM:
+    return HFCausalLM("default", threads=2)
+
+
+@pytest.fixture(scope="module")
+def saycan_prompt(llama: LlamaCppLM) -> str:
+    task = load_tasks("benchmark")[0]
+    return SayCanPlanner(llama).prompt_for(PlannerInput(task.instruction))
+
+
+def _argmax(scores: list[float]) -> int:
+    return max(range(len(scores)), key=lambda i: scores[i])
+
+
+@pytest.mark.slow
+def test_scores_agree_with_the_hf_backend(llama: LlamaCppLM, hf: HFCausalLM, saycan_prompt: str) -> None:
+    assert llama.context_ids(saycan_prompt) == hf._context_ids(saycan_prompt), "the same tokenization"
+    ours = llama.score_continuations(saycan_prompt, SKILLS)
+    theirs = hf.score_continuations(saycan_prompt, SKILLS)
+    worst = max(abs(a - b) for a, b in zip(ours, theirs, strict=True))
+    assert worst < 0.3, f"largest difference {worst:.3f} nats"
+    assert _argmax(ours) == _argmax(theirs)
+    assert len({round(s, 3) for s in ours}) > 100, "candidate scores must differ"
+
+
+@pytest.mark.slow
+def test_fast_and_naive_scores_agree(llama: LlamaCppLM, saycan_prompt: str) -> None:
+    context = append_step(saycan_prompt, SKILLS[0].strip(), 2)
+    fast = llama.score_continuations(context, SKILLS)
+    naive = llama.naive_score_continuations(context, SAMPLE)
+    sampled_fast = [fast[SKILLS.index(c)] for c in SAMPLE]
+    assert max(abs(a - b) for a, b in zip(sampled_fast, naive, strict=True)) < 1e-3
+    assert _argmax(sampled_fast) == _argmax(naive)
+
+
+@pytest.mark.slow
+def test_reused_prefix_gives_fresh_scores(llama: LlamaCppLM, saycan_prompt: str) -> None:
+    stepped_context = append_step(saycan_prompt, "find a mug", 2)
+    llama.score_continuations(saycan_prompt, SAMPLE)
+    stepped = llama.score_continuations(stepped_context, SAMPLE)
+    # A different earlier context forces the context to roll back to the shared part.
+    llama.score_continuations(saycan_prompt.replace("Robot:", "Robot :", 1), SAMPLE)
+    again = llama.score_continuations(stepped_context, SAMPLE)
+    fresh = LlamaCppLM("default", threads=2).score_continuations(stepped_context, SAMPLE)
+    assert stepped == pytest.approx(fresh, abs=1e-3)
+    assert again == pytest.approx(fresh, abs=1e-3)
+
+
+@pytest.mark.slow
+def test_loglikelihood_requests_keep_their_order(llama: LlamaCppLM, saycan_prompt: str) -> None:
+    requests = [
+        LoglikelihoodRequest(saycan_prompt, " find a mug"),
+        LoglikelihoodRequest("Human: hello\nRobot:", " hi"),
+        LoglikelihoodRequest(saycan_prompt, " done"),
+    ]
+    scores = llama.loglikelihood(requests)
+    direct = llama.score_continuations(saycan_prompt, [" find a mug", " done"])
+    assert scores[0] == pytest.approx(direct[0], abs=1e-4) and scores[2] == pytest.approx(direct[1], abs=1e-4)
+    assert scores[1] < 0
+
+
+@pytest.mark.slow
+def test_greedy_generation_is_deterministic_and_scoring_still_right_after_it(
+    llama: LlamaCppLM, saycan_prompt: str
+) -> None:
+    before = llama.score_continuations(saycan_prompt, SAMPLE)
+    request = GenerateRequest(saycan_prompt + " ", max_new_tokens=16, stop=(",", "\n"))
+    first = llama.generate([request])
+    assert first == llama.generate([request]) and first[0] and "," not in first[0]
+    assert llama.score_continuations(saycan_prompt, SAMPLE) == pytest.approx(before, abs=1e-3)
+
+
+@pytest.mark.slow
+def test_identity_names_the_weights(llama: LlamaCppLM, hf: HFCausalLM) -> None:
+    assert llama.identity.backend == "llamacpp"
+    assert llama.identity.revision == hf.identity.revision and len(llama.identity.revision) == 64
+
+
+def test_missing_llama_cpp_names_the_extra(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(sys.modules, "llama_cpp", None)  # its import now fails, installed or not
+    with pytest.raises(ImportError, match=r"\[llamacpp\]"):
+        LlamaCppLM("default")
