@@ -43,11 +43,13 @@ def _planner_prompt(model: LanguageModel) -> tuple[str, str]:
     return prompt, append_step(prompt, task.reference_plan[0], 2)
 
 
-def _compare(label: str, fast: Scorer, naive: Scorer, prompt: str, next_prompt: str, skills: list[str]) -> None:
+def _compare(
+    label: str, fast: Scorer, naive: Scorer, prompt: str, next_prompt: str, skills: list[str], naive_sample: int
+) -> None:
     candidates = [" " + skill for skill in skills]
     first = _timed(lambda: fast(prompt, candidates))
     step = _timed(lambda: fast(next_prompt, candidates))
-    sample = candidates[:: max(1, len(candidates) // NAIVE_SAMPLE)][:NAIVE_SAMPLE]
+    sample = candidates[:: max(1, len(candidates) // naive_sample)][:naive_sample]
     naive_step = _timed(lambda: naive(next_prompt, sample)) / len(sample) * len(candidates)
     print(
         f"{label}: {len(candidates)} candidates per step; fast {step:.2f} s/step "
@@ -67,7 +69,9 @@ def _hf_scoring(skills: list[str]) -> None:
         f"hf (transformers, fp32, {THREADS} threads): loaded in {time.perf_counter() - load:.1f} s; "
         f"prompt {len(model._context_ids(prompt))} tokens"
     )
-    _compare("hf", model.score_continuations, model.naive_score_continuations, prompt, next_prompt, skills)
+    _compare(
+        "hf", model.score_continuations, model.naive_score_continuations, prompt, next_prompt, skills, NAIVE_SAMPLE
+    )
 
 
 def _llamacpp_scoring(skills: list[str]) -> None:
@@ -80,7 +84,8 @@ def _llamacpp_scoring(skills: list[str]) -> None:
         return
     prompt, next_prompt = _planner_prompt(model)
     print(f"llamacpp (Q4_1 GGUF, {THREADS} threads): prompt {len(model.context_ids(prompt))} tokens")
-    _compare("llamacpp", model.score_continuations, model.naive_score_continuations, prompt, next_prompt, skills)
+    fast, naive = model.score_continuations, model.naive_score_continuations
+    _compare("llamacpp", fast, naive, prompt, next_prompt, skills, NAIVE_SAMPLE // 2)
 
 
 def _care() -> None:
