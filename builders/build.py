@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import sys
 import time
 import warnings
@@ -56,7 +57,8 @@ class BuildResult:
 
 
 def default_checkpoint(generator: str, seed: int) -> Path:
-    return repo_root() / ".cache" / "build" / f"checkpoint-{generator}-seed{seed}.jsonl"
+    safe = re.sub(r"[^A-Za-z0-9_.-]+", "_", generator)  # e.g. `llm:/models/x.gguf`
+    return repo_root() / ".cache" / "build" / f"checkpoint-{safe}-seed{seed}.jsonl"
 
 
 # --- one unit ------------------------------------------------------------------------------------------------
@@ -75,7 +77,7 @@ def _generate_verified(
     for attempt in range(1, MAX_ATTEMPTS + 1):
         batch = [
             GenerationRequest(
-                task, pattern, level, clean, derive_seed(base_seed, task.task_id, pattern, level, attempt)
+                task, pattern, level, clean, derive_seed(base_seed, task.task_id, pattern, level, attempt), attempt
             )
             for task, pattern, level, clean in (requests[i] for i in pending)
         ]
@@ -325,12 +327,15 @@ def build(
     progress: bool = True,
     throttle: float = 0.0,
     card_copy: Path | None = None,
+    limit: int | None = None,
 ) -> BuildResult:
     """Generate, verify and write the whole dataset into `folder` (default `data/`).
 
     `tasks_folder` is where `tasks/benchmark.jsonl` and `tasks/memory.jsonl` are read (default `data/`).
     `throttle` sleeps that many seconds after each unit (used by the kill-and-resume test).
     `card_copy`, if given, receives a copy of the card (the repository's `dataset_card.md`).
+    `limit`, if given, builds only the first `limit` benchmark tasks and memory tasks (a smoke build of a
+    slow generator); the dataset written is then partial and says so in its statistics.
     """
     from tqdm import tqdm
 
@@ -339,6 +344,10 @@ def build(
     source = Path(tasks_folder) if tasks_folder else data_dir()
     benchmark = load_tasks(TaskSet.BENCHMARK, source)
     memory = load_tasks(TaskSet.MEMORY, source)
+    if limit is not None:
+        if limit < 1:
+            raise ValueError(f"limit must be a positive number of tasks, got {limit}")
+        benchmark, memory = benchmark[:limit], memory[:limit]
     todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
 
     path = checkpoint or default_checkpoint(gen.name, seed)

@@ -11,7 +11,17 @@ from builders.generation.base import (
 )
 from builders.generation.rules import RulesGenerator
 
+
+def _default_llm_generator() -> Generator:
+    """The paper's prompts on the embedded default model (SmolLM2-135M through transformers)."""
+    from builders.generation.llm import LLMGenerator
+    from talkdem.llm.registry import load_model
+
+    return LLMGenerator(load_model("hf", "default"))
+
+
 register_generator("rules", RulesGenerator)
+register_generator("llm", _default_llm_generator)
 
 __all__ = [
     "CLEAN",

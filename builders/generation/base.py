@@ -40,6 +40,8 @@ class GenerationRequest:
     """The clean control to transform (empty for a `clean` request)."""
     seed: int
     """Per-request seed: the same seed gives the same utterance."""
+    attempt: int = 1
+    """1 for the first generation; 2 and 3 for regenerations after a failed verification."""
 
 
 class Generator(Protocol):
@@ -47,8 +49,11 @@ class Generator(Protocol):
 
     name: str
     """Registry name, stored with every row (`rules`, `llm`)."""
-    prompt_version: str
-    """Version of the prompts or phrase banks behind the output, stored with every row."""
+
+    @property
+    def prompt_version(self) -> str:
+        """Version of the prompts or phrase banks behind the output, stored with every row."""
+        ...
 
     def generate(self, requests: Sequence[GenerationRequest]) -> list[str]: ...
 

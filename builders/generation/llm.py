@@ -1,9 +1,13 @@
 """The LLM generator: the paper's prompts, filled per request, sent to any text backend in one batch.
 
-A backend is anything with `generate(prompts: list[str]) -> list[str]` (the planner issue's LLM backends
-implement it). The prompts are versioned text files under `builders/prompts/<version>/`; the version
-recorded with every row is the folder name plus a digest of the files, so edited prompts cannot pass for
-the old ones.
+The backend is any `talkdem.llm` language model (`hf`, `llamacpp`, `vllm`, `openai`): anything with
+`generate(requests: Sequence[GenerateRequest]) -> list[str]`. The prompts are versioned text files under
+`builders/prompts/<version>/`; the version recorded with every row is the folder name plus a digest of the
+files, so edited prompts cannot pass for the old ones.
+
+Decoding: the first attempt is greedy. A regeneration (the build asks again for a variant that failed
+verification) samples at `retry_temperature` with the request's seed: greedy decoding would only repeat the
+failed text, and the seed keeps the rebuild reproducible on backends that honour it.
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ from typing import Protocol
 
 from builders.generation.base import CLEAN, GenerationRequest
 from builders.lexicon import display_name
+from talkdem.llm.requests import GenerateRequest
 
 __all__ = ["PROMPTS_DIR", "LLMGenerator", "TextBackend", "room_of", "scene_list"]
 
@@ -24,9 +29,9 @@ _ROOMS = {0: "kitchen", 2: "living room", 3: "bedroom", 4: "bathroom"}
 
 
 class TextBackend(Protocol):
-    """A text generator: one completion per prompt, in order."""
+    """A text generator: one completion per request, in order (every `talkdem.llm` backend is one)."""
 
-    def generate(self, prompts: list[str]) -> list[str]: ...
+    def generate(self, requests: Sequence[GenerateRequest]) -> list[str]: ...
 
 
 def room_of(floor_plan: str) -> str:
@@ -43,12 +48,31 @@ def scene_list(floor_plan: str, scene_objects: Sequence[str]) -> str:
 
 
 class LLMGenerator:
-    """Prompted generation through a backend; output post-processing keeps the first non-empty line."""
+    """Prompted generation through a backend; output post-processing keeps the first non-empty line.
 
-    def __init__(self, backend: TextBackend, *, version: str = "v1", name: str = "llm") -> None:
+    Args:
+        backend: the language model.
+        version: the prompt set (a folder under `builders/prompts/`).
+        name: stored with every row as `generator`; by default `llm:<model name>` from the backend's identity.
+        max_new_tokens: the longest utterance generated (the paper's utterances are 1-4 sentences).
+        retry_temperature: sampling temperature of regenerations (attempt 2 and 3).
+    """
+
+    def __init__(
+        self,
+        backend: TextBackend,
+        *,
+        version: str = "v1",
+        name: str | None = None,
+        max_new_tokens: int = 160,
+        retry_temperature: float = 0.7,
+    ) -> None:
         self.backend = backend
         self.version = version
-        self.name = name
+        identity = getattr(backend, "identity", None)
+        self.name = name or (f"llm:{identity.name}" if identity is not None else "llm")
+        self.max_new_tokens = max_new_tokens
+        self.retry_temperature = retry_temperature
         self.folder = PROMPTS_DIR / version
         if not (self.folder / "clean.txt").is_file():
             raise FileNotFoundError(f"{self.folder}: no prompt set (expected clean.txt and <pattern>_<level>.txt)")
@@ -79,8 +103,20 @@ class LLMGenerator:
             text = text.replace("{" + key + "}", value)
         return text
 
+    def request_for(self, request: GenerationRequest) -> GenerateRequest:
+        """The backend request: greedy on the first attempt, seeded sampling on a regeneration."""
+        temperature = 0.0 if request.attempt <= 1 else self.retry_temperature
+        # No stop string: a chat model may open with a blank line; `_postprocess` keeps the first real one.
+        return GenerateRequest(
+            self.prompt(request),
+            max_new_tokens=self.max_new_tokens,
+            stop=(),
+            temperature=temperature,
+            seed=request.seed,
+        )
+
     def generate(self, requests: Sequence[GenerationRequest]) -> list[str]:
-        prompts = [self.prompt(r) for r in requests]
+        prompts = [self.request_for(r) for r in requests]
         outputs = self.backend.generate(prompts)
         if len(outputs) != len(prompts):
             raise ValueError(f"backend returned {len(outputs)} completions for {len(prompts)} prompts")

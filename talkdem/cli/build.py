@@ -16,7 +16,18 @@ def register(subparsers: Any) -> None:
         "build",
         help="rebuild the dataset (4,800 instructions + 1,600 memory items) as Parquet with its card",
     )
-    parser.add_argument("--generator", default="rules", help="generator name (default: rules; see builders/generation)")
+    parser.add_argument(
+        "--generator",
+        default="rules",
+        help="rules (default, no LLM) or llm (the paper's prompts on --backend/--model); see builders/generation",
+    )
+    parser.add_argument("--backend", default="hf", help="LLM backend for --generator llm (hf, llamacpp, vllm, openai)")
+    parser.add_argument("--model", default="default", help="model for --generator llm (default: SmolLM2-135M)")
+    parser.add_argument("--base-url", help="server URL for --backend openai")
+    parser.add_argument("--prompt-version", default="v1", help="prompt set under builders/prompts/ (default v1)")
+    parser.add_argument(
+        "--limit", type=int, help="only the first N benchmark and N memory tasks (a smoke build; needs --out)"
+    )
     parser.add_argument("--seed", type=int, default=0, help="build seed (default 0): same seed, same bytes")
     parser.add_argument("--out", type=Path, help="dataset folder (default: data/ or $TALKDEM_DATA_DIR)")
     parser.add_argument("--tasks-dir", type=Path, help="folder holding tasks/*.jsonl (default: data/)")
@@ -34,20 +45,35 @@ def run(args: argparse.Namespace) -> int:
     from talkdem.paths import data_dir, repo_root
 
     out = args.out or data_dir()
+    if args.limit is not None and Path(out).resolve() == (repo_root() / "data").resolve():
+        print("talkdem build: --limit writes a partial dataset; give --out FOLDER (not data/)", file=sys.stderr)
+        return 2
+    generator: Any = args.generator
+    if args.generator == "llm":
+        generator = _llm_generator(args)
     card_copy = args.card_copy
     if card_copy is None and Path(out).resolve() == (repo_root() / "data").resolve():
         card_copy = repo_root() / "dataset_card.md"
     result = build(
         out,
-        generator=args.generator,
+        generator=generator,
         seed=args.seed,
         checkpoint=args.checkpoint,
         tasks_folder=args.tasks_dir,
         progress=not args.no_progress,
         throttle=args.throttle,
         card_copy=card_copy,
+        limit=args.limit,
     )
     if result.resumed_units:
         print(f"resumed {result.resumed_units} finished tasks from the checkpoint", file=sys.stderr)
     print(json.dumps({"folder": str(result.folder), **result.stats}, indent=2))
     return 0
+
+
+def _llm_generator(args: argparse.Namespace) -> Any:
+    from builders.generation.llm import LLMGenerator
+    from talkdem.llm.registry import load_model
+
+    options: dict[str, Any] = {"base_url": args.base_url} if args.base_url else {}
+    return LLMGenerator(load_model(args.backend, args.model, **options), version=args.prompt_version)

@@ -69,7 +69,7 @@ class CachedLM(LanguageModel):
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
         return self._through_cache(
             "generate",
-            [(r.prompt, r.max_new_tokens, list(r.stop)) for r in requests],
+            [(r.prompt, r.max_new_tokens, list(r.stop), r.temperature, r.seed) for r in requests],
             lambda indices: self.inner.generate([requests[i] for i in indices]),
         )
 

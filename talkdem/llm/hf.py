@@ -111,12 +111,16 @@ class HFCausalLM(LanguageModel):
                 ids = self.encode(text)
             else:
                 ids = self._context_ids(request.prompt)
+            sampling: dict[str, Any] = {"do_sample": False}
+            if request.temperature > 0:
+                torch.manual_seed(request.seed)  # HF samples from torch's global generator
+                sampling = {"do_sample": True, "temperature": request.temperature, "top_k": 0, "top_p": 1.0}
             with torch.no_grad():
                 generated = self.model.generate(
                     input_ids=torch.tensor([ids], device=self.device),
                     attention_mask=torch.ones(1, len(ids), dtype=torch.long, device=self.device),
                     max_new_tokens=request.max_new_tokens,
-                    do_sample=False,
+                    **sampling,
                     pad_token_id=self.tokenizer.eos_token_id,
                 )
             text_out = self.tokenizer.decode(generated[0, len(ids) :], skip_special_tokens=True)

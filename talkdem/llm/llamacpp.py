@@ -224,7 +224,8 @@ class LlamaCppLM(LanguageModel):
             self._next_logprobs = None
             options: dict[str, Any] = {
                 "max_tokens": request.max_new_tokens,
-                "temperature": 0.0,
+                "temperature": request.temperature,
+                "seed": request.seed,
                 "repeat_penalty": 1.0,
                 "stop": [s for s in request.stop if s] or None,
             }

@@ -58,7 +58,7 @@ def _normalize_base_url(base_url: str) -> str:
 
 
 class OpenAICompatibleLM(LanguageModel):
-    """Generation through `/v1/chat/completions` (default) or `/v1/completions`, greedy (temperature 0).
+    """Generation through `/v1/chat/completions` (default) or `/v1/completions`; greedy unless asked to sample.
 
     Args:
         model: the served model name (vLLM: `--served-model-name`; llama.cpp's server accepts any name).
@@ -134,7 +134,13 @@ class OpenAICompatibleLM(LanguageModel):
         return cut_at_stop(text, request.stop).strip()
 
     def _common_fields(self, request: GenerateRequest) -> dict[str, Any]:
-        fields: dict[str, Any] = {"model": self.model, "max_tokens": request.max_new_tokens, "temperature": 0.0}
+        fields: dict[str, Any] = {
+            "model": self.model,
+            "max_tokens": request.max_new_tokens,
+            "temperature": request.temperature,
+        }
+        if request.temperature > 0:
+            fields["seed"] = request.seed  # honoured by vLLM and llama.cpp servers; best effort elsewhere
         stop = [marker for marker in request.stop if marker][:_MAX_STOP_STRINGS]
         if stop:
             fields["stop"] = stop

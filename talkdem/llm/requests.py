@@ -21,9 +21,19 @@ class LoglikelihoodRequest:
 
 @dataclass(frozen=True)
 class GenerateRequest:
-    """Greedy generation from a prompt (deterministic decoding)."""
+    """Generation from a prompt: greedy by default (deterministic decoding).
+
+    A `temperature` above 0 samples, seeded by `seed`, so that a caller can ask for a different output
+    reproducibly (the dataset builder's regeneration of a variant that failed verification).
+    """
 
     prompt: str
     max_new_tokens: int = 64
     stop: tuple[str, ...] = field(default=("\n",))
     """Generation is cut at the first of these strings (which is not returned)."""
+    temperature: float = 0.0
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if self.temperature < 0:
+            raise ValueError(f"temperature must be >= 0, got {self.temperature}")

@@ -159,7 +159,12 @@ class VLLMLM(LanguageModel):
         if not requests:
             return []
         params = [
-            self._vllm.SamplingParams(temperature=0.0, max_tokens=r.max_new_tokens, stop=[s for s in r.stop if s])
+            self._vllm.SamplingParams(
+                temperature=r.temperature,
+                seed=r.seed if r.temperature > 0 else None,
+                max_tokens=r.max_new_tokens,
+                stop=[s for s in r.stop if s],
+            )
             for r in requests
         ]
         if self.use_chat_template:

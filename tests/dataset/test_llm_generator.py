@@ -1,4 +1,5 @@
-"""The LLM generator behind the same interface, exercised with a stub backend (real backends come later)."""
+"""The LLM generator: prompt filling and decoding choices, with a recording stub backend (the real model runs in
+tests/dataset/test_llm_build.py)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import pytest
 import talk_dem
 from builders.generation import GenerationRequest
 from builders.generation.llm import PROMPTS_DIR, LLMGenerator, room_of, scene_list
+from talkdem.llm.requests import GenerateRequest
 from talkdem.tasks import get_task
 
 POTATO = "trial_T20190909_152050_792044"
@@ -18,12 +20,16 @@ class EchoBackend:
     """Returns a fixed utterance per prompt and records the prompts."""
 
     def __init__(self) -> None:
-        self.prompts: list[str] = []
+        self.requests: list[GenerateRequest] = []
 
-    def generate(self, prompts: list[str]) -> list[str]:
-        self.prompts.extend(prompts)
+    @property
+    def prompts(self) -> list[str]:
+        return [r.prompt for r in self.requests]
+
+    def generate(self, requests: list[GenerateRequest]) -> list[str]:
+        self.requests.extend(requests)
         return [
-            f'  "Hello, could you put a heated potato on the counter?"\nextra line {i}' for i in range(len(prompts))
+            f'\n  "Hello, could you put a heated potato on the counter?"\nextra line {i}' for i in range(len(requests))
         ]
 
 
@@ -67,7 +73,7 @@ def test_prompt_version_names_folder_and_content() -> None:
 
 def test_backend_answer_count_is_checked() -> None:
     class Short:
-        def generate(self, prompts: list[str]) -> list[str]:
+        def generate(self, requests: list[GenerateRequest]) -> list[str]:
             return []
 
     with pytest.raises(ValueError, match="completions"):
@@ -80,3 +86,22 @@ def test_scene_list_matches_the_paper_form() -> None:
         scene_list("FloorPlan301", ["DeskLamp", "Bed"])
         == "A bedroom containing only the following items:\n\nbed, desk lamp"
     )
+
+
+def test_first_attempt_is_greedy_and_regenerations_sample_with_their_seed() -> None:
+    backend = EchoBackend()
+    task = get_task(POTATO)
+    LLMGenerator(backend, retry_temperature=0.8).generate(
+        [GenerationRequest(task, "clean", 0, "", 11), GenerationRequest(task, "clean", 0, "", 12, attempt=2)]
+    )
+    first, retry = backend.requests
+    assert first.temperature == 0.0 and retry.temperature == 0.8 and retry.seed == 12
+    assert first.prompt == retry.prompt
+
+
+def test_generator_name_records_the_model() -> None:
+    class Named(EchoBackend):
+        identity = type("Identity", (), {"name": "smollm2-135m-instruct"})()
+
+    assert LLMGenerator(Named()).name == "llm:smollm2-135m-instruct"
+    assert LLMGenerator(EchoBackend()).name == "llm"
