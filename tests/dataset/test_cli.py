@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -55,3 +56,14 @@ def _minimal(command: str) -> list[str]:
         "markers": ["markers"],
         "push": ["push", "--repo", "o/n"],
     }[command]
+
+
+def test_partial_build_refuses_the_shipped_dataset_and_writes_elsewhere(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["build", "--limit", "1", "--no-progress"]) == 2
+    assert "--out" in capsys.readouterr().err
+    out = tmp_path / "smoke"
+    code = main(["build", "--limit", "1", "--out", str(out), "--checkpoint", str(out) + ".ckpt", "--no-progress"])
+    stats = json.loads(capsys.readouterr().out)
+    assert code == 0 and stats["counts"] == {"tasks": 1, "instructions": 16, "memory_tasks": 1, "memory_items": 16}
