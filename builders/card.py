@@ -97,6 +97,25 @@ def _stats_section(stats: dict[str, Any]) -> str:
     )
 
 
+def _provenance(info: dict[str, Any]) -> str:
+    """Who wrote the utterances: the card must not call an LLM build rule-based, or the reverse."""
+    generator, version, seed = info["generator"], info["prompt_version"], info["seed"]
+    if generator == "rules":
+        return (
+            f"**The shipped data was produced by the `rules` generator** (deterministic, rule-based, no language "
+            f"model;\nphrase banks `{version}`, build seed {seed}), not by the LLM used in the paper. The LLM "
+            "generator and its\nprompts (`builders/prompts/`) are included for rebuilding the data with a language "
+            "model (`talkdem build --generator llm`);\na rebuild records its generator and prompt version in every "
+            "row. The embedded SmolLM2-135M runs that generator\nbut does not follow the paper's prompts (it "
+            "restates their instructions; none of a smoke build's utterances passed\nverification): rebuild with "
+            "a 7B-class instruction model."
+        )
+    return (
+        f"**This data was produced by the `{generator}` generator** with the prompt set `{version}` "
+        f"(`builders/prompts/`),\nbuild seed {seed}: greedy decoding, seeded sampling for regenerations."
+    )
+
+
 def render_card(stats: dict[str, Any], folder: Path) -> str:
     markers_file = folder / "markers.json"
     if markers_file.is_file():
@@ -117,9 +136,7 @@ def render_card(stats: dict[str, Any], folder: Path) -> str:
         tasks=counts["tasks"],
         memory_items=f"{counts['memory_items']:,}",
         memory_tasks=counts["memory_tasks"],
-        generator=info["generator"],
-        prompt_version=info["prompt_version"],
-        seed=info["seed"],
+        provenance=_provenance(info),
         levels=_levels_section(),
         verification=_stats_section(stats),
         markers=markers_part,
@@ -153,10 +170,7 @@ TALK-Dem is a benchmark for robot task planning under dementia-associated commun
 {instructions} instructions in all. A disjoint memory bank of {memory_items} instructions from {memory_tasks}
 held-out tasks, with their resolved interpretations and reference plans, supports retrieval-based mitigation (CARE).
 
-**The shipped data was produced by the `{generator}` generator** (deterministic, rule-based, no language model;
-phrase banks `{prompt_version}`, build seed {seed}), not by the LLM used in the paper. The LLM generator and its
-prompts (`builders/prompts/`) are included for rebuilding the data with a language model; a rebuild records
-its generator and prompt version in every row.
+{provenance}
 
 ## Dataset Details
 
