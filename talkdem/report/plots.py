@@ -89,7 +89,7 @@ def plot_strategy_radar(runs: Sequence[ScoredRun], path: Path) -> Path:
     """Radar charts: one per model, SR (%) on clean and each pattern, one polygon per strategy."""
     plt = _pyplot()
     models: dict[str, list[ScoredRun]] = {}
-    for run in runs:
+    for run in [r for r in runs if r.from_planner] or runs:
         models.setdefault(run.model, []).append(run)
     axes_labels = ["Clean", *(PATTERN_CODES[p] for p in PATTERN_CONFIGS)]
     angles = [2 * math.pi * i / len(axes_labels) for i in range(len(axes_labels))]

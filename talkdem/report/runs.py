@@ -43,6 +43,11 @@ class ScoredRun:
     def strategy(self) -> str:
         return strategy_label(self.header.strategy)
 
+    @property
+    def from_planner(self) -> bool:
+        """False for plans written elsewhere (`talkdem score`, the oracle): they have no prompting strategy."""
+        return self.header.planner != "external"
+
 
 def score_runs(run_dirs: Sequence[Path], *, bootstrap: int = 1000, seed: int = BOOTSTRAP_SEED) -> list[ScoredRun]:
     """Score each run directory; labels (`model / strategy`) are made unique with a `#n` suffix."""

@@ -323,9 +323,11 @@ def plan_length_table(runs: Sequence[ScoredRun]) -> Table:
 
 def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE") -> list[Table]:
     """Every table, in the paper's order."""
-    tables = [success_table(runs), retention_table(runs), *strategy_success_tables(runs)]
+    # Strategies are compared among planner runs only: an oracle or external column would read as a strategy.
+    planner_runs = [r for r in runs if r.from_planner]
+    tables = [success_table(runs), retention_table(runs), *strategy_success_tables(planner_runs)]
     for by in ("model", "pattern"):
-        found = strategy_retention_table(runs, reference_strategy, by=by)
+        found = strategy_retention_table(planner_runs, reference_strategy, by=by) if planner_runs else None
         if found is not None:
             tables.append(found)
     tables += [hazard_table(runs), error_table(runs), plan_length_table(runs)]

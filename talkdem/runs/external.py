@@ -45,14 +45,14 @@ def read_plan_file(path: Path) -> dict[str, list[str]]:
     return plans
 
 
-def score_plan_file(path: Path, run_dir: Path, system_name: str) -> int:
+def score_plan_file(path: Path, run_dir: Path, system_name: str, strategy: str = "external") -> int:
     """Execute every plan of `path` into `run_dir` (planner `external`); returns the number of episodes."""
     plans = read_plan_file(path)
     by_id: dict[str, Instruction] = {i.id: i for i in load_instructions()}
     header = RunHeader(
         model={"backend": "external", "name": system_name, "revision": ""},
         planner="external",
-        strategy="external",
+        strategy=strategy,
         prompt_version="",
         dataset_hash=dataset_hash(),
         code_revision=code_revision(),

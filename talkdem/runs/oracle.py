@@ -23,4 +23,4 @@ def write_oracle_run(episodes: Sequence[Instruction], run_dir: Path) -> int:
         if run_dir.exists():
             for old in run_dir.iterdir():
                 old.unlink()
-        return score_plan_file(plan_file, run_dir, "oracle (reference plans)")
+        return score_plan_file(plan_file, run_dir, "oracle", strategy="reference plans")

@@ -36,14 +36,20 @@ def failing(task_id: str) -> list[str]:
 
 
 def write_run(
-    run_dir: Path, plans: Mapping[str, Sequence[str]], *, model: str = "tiny-model", strategy: str = "vanilla"
+    run_dir: Path,
+    plans: Mapping[str, Sequence[str]],
+    *,
+    model: str = "tiny-model",
+    strategy: str = "vanilla",
+    planner: str = "saycan",
 ) -> Path:
-    """A run directory whose episodes are the given plans executed on their real tasks."""
+    """A run directory whose episodes are the given plans executed on their real tasks (as if `planner` wrote
+    them; `external` marks plans from elsewhere)."""
     write_header(
         run_dir,
         RunHeader(
             model={"backend": "test", "name": model, "revision": "r0"},
-            planner="external",
+            planner=planner,
             strategy=strategy,
             prompt_version="test",
             dataset_hash="test",

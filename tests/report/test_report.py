@@ -52,6 +52,22 @@ def test_tables_have_the_paper_layouts(run_dirs: list[Path]) -> None:
     assert tables["hazards"].rows[-2][0] == "Distinct cases"
 
 
+def test_oracle_and_external_plans_are_scored_but_not_compared_as_strategies(
+    run_dirs: list[Path], tmp_path: Path
+) -> None:
+    from talkdem.instructions import load_instructions
+    from talkdem.runs.oracle import write_oracle_run
+
+    episodes = [i for i in load_instructions() if i.task_id in TASKS]
+    oracle = tmp_path / "oracle"
+    write_oracle_run(episodes, oracle)
+    runs = score_runs([*run_dirs, oracle], bootstrap=0)
+    tables = {t.name: t for t in all_tables(runs)}
+    assert tables["success"].rows[-1][:4] == ("oracle", "reference plans", "64", "100.0")
+    assert tables["strategy_retention_by_model"].columns[1:] == ("Vanilla", "CARE")
+    assert all("reference plans" not in t.columns for t in tables.values() if t.name.startswith("strategy_"))
+
+
 def test_cli_report_writes_tables_scores_and_plots(run_dirs: list[Path], tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
     out = tmp_path / "report"
     assert main(["report", *map(str, run_dirs), "--out", str(out), "--bootstrap", "50"]) == 0
