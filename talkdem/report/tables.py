@@ -165,8 +165,9 @@ def _by_model(runs: Sequence[ScoredRun]) -> dict[str, list[ScoredRun]]:
 
 def _bold_best(values: Sequence[float], digits: int = 2) -> list[str]:
     finite = [v for v in values if not math.isnan(v)]
-    best = max(finite) if finite else math.nan
-    return [f"**{_pct(v, digits)}**" if v == best and len(values) > 1 else _pct(v, digits) for v in values]
+    # Bold marks a best value: with every value equal (or none defined) there is none.
+    best = max(finite) if len(set(finite)) > 1 else math.nan
+    return [f"**{_pct(v, digits)}**" if v == best else _pct(v, digits) for v in values]
 
 
 def strategy_success_tables(runs: Sequence[ScoredRun]) -> list[Table]:
@@ -240,7 +241,8 @@ def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE",
             test = None
             if strategy != reference and ref_runs and chosen:
                 test = _versus(_mean_task_retention(chosen, task_key), ref_tasks)
-            cells.append(f"**{_pct(value)}**" if strategy == reference else _starred(value, test))
+            bold = strategy == reference and not math.isnan(value)  # bold names the reference; "–" stays plain
+            cells.append(f"**{_pct(value)}**" if bold else _starred(value, test))
         rows.append((name, *cells))
     what = "model" if by == "model" else "pattern"
     return Table(

@@ -47,6 +47,9 @@ def test_tables_have_the_paper_layouts(run_dirs: list[Path]) -> None:
     assert retention.rows[0] == ("Successful clean tasks (n)", "", "4", "4")
     assert retention.rows[3] == ("", "L3", "25.0", "100.0")
     assert tables["strategy_retention_by_model"].rows[0][1:] == ("75.0", "**100.0**")
+    per_strategy = tables["strategies_1"]
+    assert per_strategy.rows[0][2:] == ("100.00", "100.00"), "a tie has no best: nothing bold"
+    assert per_strategy.rows[3][2:] == ("25.00", "**100.00**")  # Referential Imprecision L3
     assert tables["errors"].rows[-1][-1] == str(3 * 5)  # 3 failed level-3 episodes per pattern, all typed
     assert tables["plan_length"].columns == ("Pattern", "n", "Clean", "Transformed", "Δ")
     assert tables["hazards"].rows[-2][0] == "Distinct cases"
@@ -65,7 +68,7 @@ def test_oracle_and_external_plans_are_scored_but_not_compared_as_strategies(
     tables = {t.name: t for t in all_tables(runs)}
     assert tables["success"].rows[-1][:4] == ("oracle", "reference plans", "64", "100.0")
     assert tables["strategy_retention_by_model"].columns[1:] == ("Vanilla", "CARE")
-    assert all("reference plans" not in t.columns for t in tables.values() if t.name.startswith("strategy_"))
+    assert all("reference plans" not in t.columns for t in tables.values() if t.name.startswith("strateg"))
 
 
 def test_cli_report_writes_tables_scores_and_plots(run_dirs: list[Path], tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
