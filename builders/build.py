@@ -17,7 +17,7 @@ import time
 import warnings
 from collections import Counter
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
@@ -104,7 +104,6 @@ def build_unit(generator: Generator, task: Task, base_seed: int) -> list[dict[st
             variants, _generate_verified(generator, variants, base_seed), strict=True
         )
     ]
-    params = task.pddl_params
     return [
         {
             "id": f"{task.task_id}:{pattern}:{level}",
@@ -115,13 +114,7 @@ def build_unit(generator: Generator, task: Task, base_seed: int) -> list[dict[st
             "instruction": text,
             "clean_instruction": clean,
             "seed_instruction": task.instruction,
-            "pddl_params": {
-                "object_target": params.object_target,
-                "parent_target": params.parent_target,
-                "mrecep_target": params.mrecep_target,
-                "toggle_target": params.toggle_target,
-                "object_sliced": params.object_sliced,
-            },
+            "pddl_params": asdict(task.pddl_params),
             "floor_plan": task.floor_plan,
             "scene_objects": list(task.scene.scene_objects),
             "verification": check,
@@ -243,13 +236,7 @@ def _task_row(task: Task) -> dict[str, Any]:
         "floor_plan": task.floor_plan,
         "seed_instruction": task.instruction,
         "interpretation": interpretation(task.task_type, params),
-        "pddl_params": {
-            "object_target": params.object_target,
-            "parent_target": params.parent_target,
-            "mrecep_target": params.mrecep_target,
-            "toggle_target": params.toggle_target,
-            "object_sliced": params.object_sliced,
-        },
+        "pddl_params": asdict(params),
         "scene_objects": list(task.scene.scene_objects),
         "reference_plan": list(task.reference_plan),
     }

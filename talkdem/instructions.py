@@ -120,13 +120,17 @@ def _rows(config: str, folder: Path | None) -> list[dict[str, Any]]:
     return rows
 
 
+def _condition(pattern: str, row: dict[str, Any]) -> Condition:
+    return Condition(CLEAN, 0) if pattern == CLEAN else Condition(pattern, int(row["level"]))
+
+
 @cache
 def load_instructions(folder: Path | None = None) -> tuple[Instruction, ...]:
     """All 4,800 instructions: clean controls first, then each pattern by level (ids are unique)."""
     instructions = []
     for config in (CLEAN, *PATTERN_CONFIGS):
         for row in _rows(config, folder):
-            condition = Condition(CLEAN, 0) if config == CLEAN else Condition(config, int(row["level"]))
+            condition = _condition(config, row)
             instructions.append(
                 Instruction(
                     id=row["id"],
@@ -145,8 +149,7 @@ def load_memory_bank(folder: Path | None = None) -> tuple[MemoryItem, ...]:
     """CARE's 1,600 memory items, in a stable order."""
     items = []
     for row in _rows("memory_bank", folder):
-        pattern = row["pattern"]
-        condition = Condition(CLEAN, 0) if pattern == CLEAN else Condition(pattern, int(row["level"]))
+        condition = _condition(row["pattern"], row)
         items.append(
             MemoryItem(
                 id=row["id"],

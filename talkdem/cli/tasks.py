@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from dataclasses import asdict
 from typing import Any
 
 from talkdem.tasks import Task, TaskSet, load_tasks
@@ -29,13 +30,7 @@ def task_summary(task: Task) -> dict[str, Any]:
         "instruction": task.instruction,
         "reference_plan": list(task.reference_plan),
         "scene_objects": list(task.scene.scene_objects),
-        "pddl_params": {
-            "object_target": task.pddl_params.object_target,
-            "parent_target": task.pddl_params.parent_target,
-            "mrecep_target": task.pddl_params.mrecep_target,
-            "toggle_target": task.pddl_params.toggle_target,
-            "object_sliced": task.pddl_params.object_sliced,
-        },
+        "pddl_params": asdict(task.pddl_params),
     }
 
 

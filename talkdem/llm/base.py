@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import hashlib
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
-__all__ = ["LanguageModel", "ModelIdentity", "cut_at_stop", "file_sha256"]
+__all__ = ["LanguageModel", "ModelIdentity", "cut_at_stop", "file_sha256", "loglikelihood_by_context"]
 
 
 @dataclass(frozen=True)
@@ -41,6 +41,21 @@ class LanguageModel(ABC):
     @abstractmethod
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
         """Greedy completions, one per request, cut at the request's stop strings."""
+
+
+def loglikelihood_by_context(
+    requests: Sequence[LoglikelihoodRequest], score_continuations: Callable[[str, list[str]], list[float]]
+) -> list[float]:
+    """Answer requests in order, scoring all continuations of one context in one call (SayCan's batch shape)."""
+    by_context: dict[str, list[int]] = {}
+    for i, request in enumerate(requests):
+        by_context.setdefault(request.context, []).append(i)
+    results = [0.0] * len(requests)
+    for context, indices in by_context.items():
+        scores = score_continuations(context, [requests[i].continuation for i in indices])
+        for i, score in zip(indices, scores, strict=True):
+            results[i] = score
+    return results
 
 
 def cut_at_stop(text: str, stop: Sequence[str]) -> str:

@@ -8,12 +8,11 @@ seconds.
 from __future__ import annotations
 
 import os
-from collections import defaultdict
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256
+from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
 from talkdem.llm.default_model import DEFAULT_MODEL_NAME, default_model_path
 from talkdem.llm.prefix_scorer import PrefixCachedScorer, naive_scores
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
@@ -89,15 +88,7 @@ class HFCausalLM(LanguageModel):
         return naive_scores(self.model, self._context_ids(context), [self.encode(c) for c in continuations])
 
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
-        by_context: dict[str, list[int]] = defaultdict(list)
-        for i, request in enumerate(requests):
-            by_context[request.context].append(i)
-        results = [0.0] * len(requests)
-        for context, indices in by_context.items():
-            scores = self.score_continuations(context, [requests[i].continuation for i in indices])
-            for i, score in zip(indices, scores, strict=True):
-                results[i] = score
-        return results
+        return loglikelihood_by_context(requests, self.score_continuations)
 
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
         import torch

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256
+from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
 from talkdem.llm.default_model import DEFAULT_MODEL_NAME, default_model_path
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
@@ -204,15 +204,7 @@ class LlamaCppLM(LanguageModel):
         return scores
 
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
-        by_context: dict[str, list[int]] = {}
-        for i, request in enumerate(requests):
-            by_context.setdefault(request.context, []).append(i)
-        results = [0.0] * len(requests)
-        for context, indices in by_context.items():
-            scores = self.score_continuations(context, [requests[i].continuation for i in indices])
-            for i, score in zip(indices, scores, strict=True):
-                results[i] = score
-        return results
+        return loglikelihood_by_context(requests, self.score_continuations)
 
     # -- generation -----------------------------------------------------------------------------------
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
