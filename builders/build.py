@@ -9,6 +9,7 @@ is byte-identical to an uninterrupted one. A truncated last line (a kill mid-wri
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import re
@@ -16,7 +17,8 @@ import sys
 import time
 import warnings
 from collections import Counter
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
@@ -56,9 +58,48 @@ class BuildResult:
     """Units taken from an existing checkpoint instead of being generated again."""
 
 
-def default_checkpoint(generator: str, seed: int) -> Path:
+def default_checkpoint(generator: str, seed: int, limit: int | None = None) -> Path:
+    """One path per build configuration: a `--limit` smoke build never touches the checkpoint of an
+    interrupted full build of the same generator and seed."""
     safe = re.sub(r"[^A-Za-z0-9_.-]+", "_", generator)  # e.g. `llm:/models/x.gguf`
-    return repo_root() / ".cache" / "build" / f"checkpoint-{safe}-seed{seed}.jsonl"
+    size = "" if limit is None else f"-limit{limit}"
+    return repo_root() / ".cache" / "build" / f"checkpoint-{safe}-seed{seed}{size}.jsonl"
+
+
+class CheckpointInUseError(ValueError):
+    """Another build is appending to the checkpoint."""
+
+
+@contextmanager
+def _checkpoint_lock(path: Path) -> Iterator[None]:
+    # flock on the checkpoint itself: two builds appending to one checkpoint would interleave units.
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("a") as handle:
+        try:
+            fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise CheckpointInUseError(f"{path}: another build is using this checkpoint; wait for it") from None
+        yield
+
+
+def check_output_folder(folder: Path) -> None:
+    """Refuse to write a dataset into a folder that holds something else (`--out .` would overwrite the
+    project's README.md): the folder must be new, empty, or hold a TALK-Dem dataset card."""
+    if folder.exists() and not folder.is_dir():
+        raise ValueError(f"{folder}: exists and is not a folder")
+    if not folder.is_dir() or not any(folder.iterdir()):
+        return
+    card = folder / "README.md"
+    is_dataset = (
+        card.is_file()
+        and card.read_text(encoding="utf-8", errors="replace").startswith("---")
+        and ("pretty_name: TALK-Dem" in card.read_text(encoding="utf-8", errors="replace"))
+    )
+    if not is_dataset:
+        raise ValueError(
+            f"{folder}: not empty and not a TALK-Dem dataset folder (its README.md is not the dataset card); "
+            "refusing to write into it: choose a new or empty --out"
+        )
 
 
 # --- one unit ------------------------------------------------------------------------------------------------
@@ -137,9 +178,20 @@ def _header(generator: Generator, seed: int) -> dict[str, Any]:
 
 
 def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[str, Any]]]:
-    """Finished units by key. A truncated last line is cut off (with a warning); a foreign header restarts."""
-    if not path.is_file():
+    """Finished units by key. A truncated last line is cut off (with a warning); a file that is not this
+    build's checkpoint is refused, never deleted (it may be another build's hours of LLM generation)."""
+    if path.exists() and not path.is_file():
+        raise ValueError(f"{path}: the checkpoint path is not a file")
+    if not path.is_file() or path.stat().st_size == 0:
         return {}
+    with path.open("rb") as handle:
+        first = handle.readline()
+    try:
+        found_header = json.loads(first)
+    except (json.JSONDecodeError, UnicodeDecodeError, RecursionError):
+        found_header = None
+    if not isinstance(found_header, dict) or found_header.get("checkpoint") != CHECKPOINT_FORMAT:
+        raise ValueError(f"{path}: exists and is not a TALK-Dem build checkpoint; refusing to overwrite it")
     raw = path.read_bytes()
     lines = raw.split(b"\n")
     complete, tail = lines[:-1], lines[-1]  # `tail` is b"" when the file ends with a newline
@@ -154,16 +206,11 @@ def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[s
             handle.truncate(len(raw) - len(tail))
     if not complete:
         return {}
-    try:
-        found_header = json.loads(complete[0])
-    except json.JSONDecodeError:
-        found_header = None
     if found_header != header:
-        warnings.warn(
-            f"{path}: checkpoint of another build ({found_header}); starting afresh", CheckpointWarning, stacklevel=2
+        raise ValueError(
+            f"{path}: checkpoint of another build ({found_header}, this build: {header}); delete it to start "
+            "afresh or give --checkpoint another file"
         )
-        path.unlink()
-        return {}
     units: dict[str, list[dict[str, Any]]] = {}
     for number, line in enumerate(complete[1:], start=2):
         try:
@@ -324,10 +371,7 @@ def build(
     `limit`, if given, builds only the first `limit` benchmark tasks and memory tasks (a smoke build of a
     slow generator); the dataset written is then partial and says so in its statistics.
     """
-    from tqdm import tqdm
-
     gen = get_generator(generator) if isinstance(generator, str) else generator
-    folder = Path(folder) if folder else data_dir()
     source = Path(tasks_folder) if tasks_folder else data_dir()
     benchmark = load_tasks(TaskSet.BENCHMARK, source)
     memory = load_tasks(TaskSet.MEMORY, source)
@@ -335,14 +379,31 @@ def build(
         if limit < 1:
             raise ValueError(f"limit must be a positive number of tasks, got {limit}")
         benchmark, memory = benchmark[:limit], memory[:limit]
-    todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
+    folder = Path(folder) if folder else data_dir()
+    check_output_folder(folder)
+    path = checkpoint or default_checkpoint(gen.name, seed, limit)
+    with _checkpoint_lock(path):
+        return _build_locked(gen, folder, benchmark, memory, path, seed, progress, throttle, card_copy)
 
-    path = checkpoint or default_checkpoint(gen.name, seed)
+
+def _build_locked(
+    gen: Generator,
+    folder: Path,
+    benchmark: Sequence[Task],
+    memory: Sequence[Task],
+    path: Path,
+    seed: int,
+    progress: bool,
+    throttle: float,
+    card_copy: Path | None,
+) -> BuildResult:
+    from tqdm import tqdm
+
+    todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
     header = _header(gen, seed)
     units = read_checkpoint(path, header)
     resumed = sum(1 for key, _ in todo if key in units)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if not path.is_file():
+    if path.stat().st_size == 0:  # the lock created it empty
         _append(path, header)
 
     bar = tqdm(

@@ -25,6 +25,7 @@ __all__ = [
     "dataset_hash",
     "load_instructions",
     "load_memory_bank",
+    "parse_instruction_id",
 ]
 
 CLEAN = "clean"
@@ -52,6 +53,17 @@ class Condition:
         if level not in ("1", "2", "3"):
             raise ValueError(f"condition '{text}': the level must be 1, 2 or 3")
         return cls(name, int(level))
+
+
+def parse_instruction_id(instruction_id: str) -> tuple[str, Condition]:
+    """`<task>:clean`, `<task>:clean:0` or `<task>:<pattern>:<level>` -> (task id, condition); a
+    ValueError saying what an id looks like otherwise."""
+    parts = instruction_id.split(":") if isinstance(instruction_id, str) else []
+    if len(parts) in (2, 3) and parts[0] and parts[1] == CLEAN and (len(parts) == 2 or parts[2] == "0"):
+        return parts[0], Condition(CLEAN, 0)
+    if len(parts) == 3 and parts[0] and parts[1] in PATTERN_CONFIGS and parts[2] in ("1", "2", "3"):
+        return parts[0], Condition(parts[1], int(parts[2]))
+    raise ValueError(f"'{instruction_id}' is not an instruction id (<task_id>:clean or <task_id>:<pattern>:<level>)")
 
 
 @dataclass(frozen=True)

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 import types
 import typing
 from typing import Any, TypeVar
 
-__all__ = ["from_jsonable", "to_jsonable"]
+__all__ = ["from_jsonable", "parse_json", "to_jsonable"]
 
 T = TypeVar("T")
 
@@ -63,3 +64,14 @@ def from_jsonable(cls: type[T], data: Any, where: str = "") -> T:
             raise ValueError(f"{name}: missing")
         kwargs[field.name] = _convert(hints[field.name], data[field.name], name)
     return cls(**kwargs)
+
+
+def parse_json(text: str, where: str) -> Any:
+    """`json.loads` whose errors are one line naming `where`: bad syntax, and nesting too deep to parse
+    (a hostile file of 100,000 nested brackets exhausts the parser's recursion limit)."""
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{where}: not JSON ({exc.msg}, line {exc.lineno} column {exc.colno})") from None
+    except RecursionError:
+        raise ValueError(f"{where}: JSON nested too deeply to read") from None

@@ -7,6 +7,7 @@ functions, so `talkdem --help` never loads torch, transformers or datasets.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
 
@@ -30,6 +31,22 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _describe(exc: BaseException) -> str:
+    """One line for an error a user can act on; OSErrors name the file the system call was about."""
+    if isinstance(exc, OSError) and exc.strerror:
+        target = f": {exc.filename}" if exc.filename else ""
+        return f"{exc.strerror}{target}"
+    if isinstance(exc, RecursionError):
+        return "input nested too deeply to process"
+    return str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+
+
+def _is_server_error(exc: BaseException) -> bool:
+    # Looked up only if the served backend was imported: the CLI must not import backends to start.
+    module = sys.modules.get("talkdem.llm.openai_compat")
+    return module is not None and isinstance(exc, module.EndpointError | module.LoglikelihoodUnsupportedError)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -37,7 +54,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         code: int = args.handler(args)
     except BrokenPipeError:  # `talkdem tasks | head` should end quietly
         return 0
-    except (FileNotFoundError, ValueError, KeyError) as exc:
-        print(f"talkdem {args.command}: error: {exc}", file=sys.stderr)
+    except KeyboardInterrupt:
+        print(
+            f"talkdem {args.command}: interrupted (finished episodes are saved; run again to resume)", file=sys.stderr
+        )
+        return 130
+    except Exception as exc:
+        # Every failure is one line and a non-zero exit; TALKDEM_DEBUG=1 shows the traceback of a bug.
+        if os.environ.get("TALKDEM_DEBUG"):
+            raise
+        expected = isinstance(exc, OSError | ValueError | KeyError | ImportError | RecursionError) or _is_server_error(
+            exc
+        )
+        prefix = "" if expected else f"unexpected {type(exc).__name__} (TALKDEM_DEBUG=1 shows where): "
+        print(f"talkdem {args.command}: error: {prefix}{_describe(exc)}", file=sys.stderr)
         return 2
     return code

@@ -8,6 +8,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from talkdem.cli.arguments import positive_int
+
 __all__ = ["register"]
 
 
@@ -26,7 +28,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument("--base-url", help="server URL for --backend openai")
     parser.add_argument("--prompt-version", default="v1", help="prompt set under builders/prompts/ (default v1)")
     parser.add_argument(
-        "--limit", type=int, help="only the first N benchmark and N memory tasks (a smoke build; needs --out)"
+        "--limit", type=positive_int, help="only the first N benchmark and N memory tasks (a smoke build; needs --out)"
     )
     parser.add_argument("--seed", type=int, default=0, help="build seed (default 0): same seed, same bytes")
     parser.add_argument("--out", type=Path, help="dataset folder (default: data/ or $TALKDEM_DATA_DIR)")

@@ -15,15 +15,19 @@ import time
 from pathlib import Path
 from typing import Any
 
+from talkdem.cli.arguments import positive_int
+
 __all__ = ["register"]
 
 
 def register(subparsers: Any) -> None:
     parser = subparsers.add_parser("demo", help="run the main job on its embedded defaults (make demo)")
-    parser.add_argument("--tasks", type=int, default=1, help="tasks in the sample; each runs under all 16 conditions")
+    parser.add_argument(
+        "--tasks", type=positive_int, default=1, help="tasks in the sample; each runs under all 16 conditions"
+    )
     parser.add_argument("--strategies", default="vanilla,care", help="comma-separated strategies")
     parser.add_argument("--out", type=Path, default=Path("demo_output"), help="folder for runs, report, leaderboard")
-    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--threads", type=positive_int, default=2)
     parser.set_defaults(handler=run)
 
 

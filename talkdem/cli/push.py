@@ -7,12 +7,14 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from talkdem.cli.arguments import hub_repo_id
+
 __all__ = ["register"]
 
 
 def register(subparsers: Any) -> None:
     parser = subparsers.add_parser("push", help="upload the dataset folder (card + Parquet) to a Hub dataset repo")
-    parser.add_argument("--repo", required=True, help="ORG/NAME of the dataset repository")
+    parser.add_argument("--repo", required=True, type=hub_repo_id, help="ORG/NAME of the dataset repository")
     parser.add_argument("--data", type=Path, help="dataset folder (default: data/)")
     parser.add_argument("--private", action="store_true", help="create the repository as private")
     parser.add_argument("--message", default="Upload TALK-Dem", help="commit message")

@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from talkdem.cli.arguments import positive_int
+
 __all__ = ["register"]
 
 
@@ -19,9 +21,11 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--conditions", help="comma-separated: clean, PATTERN (all levels) or PATTERN:LEVEL (default: all 16)"
     )
-    parser.add_argument("--limit", type=int, help="number of tasks (stratified over task types; default: all 300)")
+    parser.add_argument(
+        "--limit", type=positive_int, help="number of tasks (stratified over task types; default: all 300)"
+    )
     parser.add_argument("--out", type=Path, help="run directory (default: runs/<model>-<strategy>); resumes")
-    parser.add_argument("--max-steps", type=int, default=30)
+    parser.add_argument("--max-steps", type=positive_int, default=30)
     parser.add_argument("--scoring", choices=["sum", "mean"], default="sum", help="skill score: sum or mean log-prob")
     parser.add_argument(
         "--planner",
@@ -31,7 +35,7 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("--no-mask-failed", action="store_true", help="offer a skill again right after it failed")
     parser.add_argument("--base-url", help="openai backend: server URL, e.g. http://127.0.0.1:8080/v1")
-    parser.add_argument("--threads", type=int, help="hf backend: torch threads")
+    parser.add_argument("--threads", type=positive_int, help="hf backend: torch threads")
     parser.add_argument("--no-progress", action="store_true")
     parser.set_defaults(handler=run)
 

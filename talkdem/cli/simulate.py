@@ -8,6 +8,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from talkdem.plans import Plan, check_plan
+from talkdem.serialization import parse_json
+
 __all__ = ["register"]
 
 
@@ -18,21 +21,14 @@ def register(subparsers: Any) -> None:
     parser.set_defaults(handler=run)
 
 
-def _read_plan(source: str) -> list[str]:
+def _read_plan(source: str) -> Plan:
     try:
         text = sys.stdin.read() if source == "-" else Path(source).read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ValueError(f"cannot read plan file '{source}': {exc.strerror}") from exc
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8 text"
+        raise ValueError(f"cannot read plan file '{source}': {reason}") from None
     where = "standard input" if source == "-" else source
-    try:
-        plan = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ValueError(
-            f"{where} is not JSON ({exc.msg}, line {exc.lineno}); expected a list of skill strings"
-        ) from None
-    if not isinstance(plan, list) or not all(isinstance(step, str) for step in plan):
-        raise ValueError(f'{where} must be a JSON list of skill strings, e.g. ["find an apple", "done"]')
-    return plan
+    return check_plan(parse_json(text, where), where)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -12,7 +12,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from talkdem.instructions import CLEAN, PATTERN_CONFIGS, Condition
+from talkdem.instructions import CLEAN, PATTERN_CONFIGS, Condition, parse_instruction_id
+from talkdem.plans import as_plan
 from talkdem.sim import DEFAULT_MAX_STEPS, EpisodeTrace, run_plan
 from talkdem.skills import SkillVerb
 
@@ -67,12 +68,12 @@ def plan_length(trace: EpisodeTrace) -> int:
 
 def split_instruction_id(instruction_id: str) -> tuple[str, Condition]:
     """`<task>:clean`, `<task>:clean:0` or `<task>:<pattern>:<level>` -> (task id, condition)."""
-    parts = instruction_id.split(":")
-    if len(parts) in (2, 3) and parts[1] == CLEAN and (len(parts) == 2 or parts[2] == "0"):
-        return parts[0], Condition(CLEAN, 0)
-    if len(parts) == 3 and parts[1] in PATTERN_CONFIGS and parts[2] in ("1", "2", "3"):
-        return parts[0], Condition(parts[1], int(parts[2]))
-    raise ScoringInputError("not an instruction id (<task_id>:clean or <task_id>:<pattern>:<level>)", [instruction_id])
+    try:
+        return parse_instruction_id(instruction_id)
+    except ValueError:
+        raise ScoringInputError(
+            "not an instruction id (<task_id>:clean or <task_id>:<pattern>:<level>)", [instruction_id]
+        ) from None
 
 
 def instruction_index() -> dict[str, tuple[str, Condition]]:
@@ -88,15 +89,6 @@ def instruction_index() -> dict[str, tuple[str, Condition]]:
     return index
 
 
-def _check_plan(instruction_id: str, plan: object) -> tuple[str, ...] | None:
-    # A str is a Sequence of str: refuse it explicitly, it is one skill, not a plan.
-    if isinstance(plan, str | bytes) or not isinstance(plan, Sequence):
-        return None
-    if not all(isinstance(step, str) for step in plan):
-        return None
-    return tuple(plan)
-
-
 def _resolve(
     plans: Mapping[str, object], index: Mapping[str, tuple[str, Condition]] | None
 ) -> list[tuple[str, str, Condition, tuple[str, ...]]]:
@@ -108,7 +100,7 @@ def _resolve(
         raise ScoringInputError(
             f"unknown instruction ids (not among the {len(index)} dataset ids)", [str(i) for i in unknown]
         )
-    bad = [i for i, plan in plans.items() if _check_plan(i, plan) is None]
+    bad = [i for i, plan in plans.items() if as_plan(plan) is None]
     if bad:
         raise ScoringInputError("plans must be lists of skill strings; these are not", bad)
     seen: dict[tuple[str, Condition], str] = {}
@@ -119,7 +111,7 @@ def _resolve(
         if (task_id, condition) in seen:  # `<task>:clean` and its long form name the same instruction
             clashes += [seen[(task_id, condition)], instruction_id]
         seen[(task_id, condition)] = instruction_id
-        checked = _check_plan(instruction_id, plan)
+        checked = as_plan(plan)
         assert checked is not None  # checked above
         resolved.append((instruction_id, task_id, condition, checked))
     if clashes:

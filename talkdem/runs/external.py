@@ -2,83 +2,90 @@
 
 from __future__ import annotations
 
-import datetime as dt
-import json
+import hashlib
+from collections.abc import Mapping
 from pathlib import Path
 
-from talkdem.instructions import Instruction, dataset_hash, load_instructions
+from talkdem.instructions import Instruction, load_instructions
+from talkdem.plans import Plan, check_plan
 from talkdem.runs.records import EpisodeRecord, RunHeader
-from talkdem.runs.revision import code_revision
-from talkdem.runs.store import EpisodeWriter, read_episodes, write_header
+from talkdem.runs.store import EpisodeWriter, open_run, run_lock
+from talkdem.serialization import parse_json
 from talkdem.sim import run_plan
 from talkdem.tasks import get_task
 
-__all__ = ["read_plan_file", "score_plan_file"]
+__all__ = ["EXTERNAL_RESUME_KEYS", "plans_digest", "read_plan_file", "score_plan_file", "score_plans"]
+
+# A scored run resumes only with the same plans from the same system: the digest covers every plan.
+EXTERNAL_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash", "config.plans_sha256")
 
 
-def read_plan_file(path: Path) -> dict[str, list[str]]:
+def read_plan_file(path: Path) -> dict[str, Plan]:
     """`{"episode_id": ..., "plan": [...]}` per line (`id` is accepted for `episode_id`); errors name the line."""
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: plan file not found")
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise FileNotFoundError(f"{path}: plan file not found") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read the plan file ({exc})") from None
     known = {i.id for i in load_instructions()}
-    plans: dict[str, list[str]] = {}
-    for number, line in enumerate(path.read_text().splitlines(), start=1):
+    plans: dict[str, Plan] = {}
+    for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip():
             continue
-        try:
-            row = json.loads(line)
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"{path}, line {number}: not JSON ({exc.msg})") from exc
+        where = f"{path}, line {number}"
+        row = parse_json(line, where)
         episode_id = row.get("episode_id", row.get("id")) if isinstance(row, dict) else None
-        plan = row.get("plan") if isinstance(row, dict) else None
         if not isinstance(episode_id, str):
-            raise ValueError(f"{path}, line {number}: expected an object with a string 'episode_id'")
-        if not isinstance(plan, list) or not all(isinstance(s, str) for s in plan):
-            raise ValueError(f"{path}, line {number} ({episode_id}): 'plan' must be a list of skill strings")
+            raise ValueError(f"{where}: expected an object with a string 'episode_id'")
+        plan = check_plan(row.get("plan"), f"{where} ({episode_id})")
         if episode_id not in known:
-            raise ValueError(f"{path}, line {number}: unknown episode id '{episode_id}'")
+            raise ValueError(f"{where}: unknown episode id '{episode_id}'")
         if episode_id in plans:
-            raise ValueError(f"{path}, line {number}: duplicate episode id '{episode_id}'")
+            raise ValueError(f"{where}: duplicate episode id '{episode_id}'")
         plans[episode_id] = plan
     if not plans:
         raise ValueError(f"{path}: no plans")
     return plans
 
 
-def score_plan_file(path: Path, run_dir: Path, system_name: str, strategy: str = "external") -> int:
-    """Execute every plan of `path` into `run_dir` (planner `external`); returns the number of episodes."""
-    plans = read_plan_file(path)
+def plans_digest(plans: Mapping[str, Plan]) -> str:
+    """sha256 over the plans in id order: names a set of external plans without naming a file path."""
+    digest = hashlib.sha256()
+    for episode_id in sorted(plans):
+        digest.update(episode_id.encode() + b"\0" + "\x1f".join(plans[episode_id]).encode() + b"\0")
+    return digest.hexdigest()
+
+
+def score_plans(
+    plans: Mapping[str, Plan], run_dir: Path, system_name: str, strategy: str = "external", source: str = ""
+) -> int:
+    """Execute every plan into `run_dir` (planner `external`), resuming a run killed part-way with the
+    same plans; returns the number of episodes in the run. `source` names where the plans came from
+    (a file name, never a machine path: the header is published)."""
     by_id: dict[str, Instruction] = {i.id: i for i in load_instructions()}
-    header = RunHeader(
+    unknown = [episode_id for episode_id in plans if episode_id not in by_id]
+    if unknown:
+        raise ValueError(f"unknown episode ids: {', '.join(unknown[:5])}")
+    header = RunHeader.new(
         model={"backend": "external", "name": system_name, "revision": ""},
         planner="external",
         strategy=strategy,
         prompt_version="",
-        dataset_hash=dataset_hash(),
-        code_revision=code_revision(),
-        config={"plan_file": str(path)},
-        created=dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
+        config={"plans": source, "plans_sha256": plans_digest(plans), "planned_episodes": len(plans)},
     )
-    if (run_dir / "episodes.jsonl").exists() and read_episodes(run_dir):
-        raise ValueError(f"{run_dir} already holds episodes; choose an empty --out")
-    write_header(run_dir, header)
-    with EpisodeWriter(run_dir) as writer:
-        for episode_id, plan in plans.items():
-            instruction = by_id[episode_id]
-            trace = run_plan(get_task(instruction.task_id), plan)
-            summary = trace.summary()
-            writer.write(
-                EpisodeRecord(
-                    episode_id=episode_id,
-                    task_id=instruction.task_id,
-                    pattern=instruction.condition.pattern,
-                    level=instruction.condition.level,
-                    instruction=instruction.text,
-                    plan=tuple(plan),
-                    success=trace.success,
-                    hazards=tuple(summary["hazards"]),
-                    goal_conditions=summary["goal_conditions"],
-                    trace=trace.to_json(),
-                )
-            )
+    with run_lock(run_dir):
+        done = {episode.episode_id for episode in open_run(run_dir, header, EXTERNAL_RESUME_KEYS)}
+        with EpisodeWriter(run_dir) as writer:
+            for episode_id, plan in plans.items():
+                if episode_id in done:
+                    continue
+                instruction = by_id[episode_id]
+                trace = run_plan(get_task(instruction.task_id), plan)
+                writer.write(EpisodeRecord.from_trace(instruction, plan, trace))
     return len(plans)
+
+
+def score_plan_file(path: Path, run_dir: Path, system_name: str, strategy: str = "external") -> int:
+    """Execute every plan of `path` into `run_dir` (planner `external`); returns the number of episodes."""
+    return score_plans(read_plan_file(path), run_dir, system_name, strategy, source=path.name)

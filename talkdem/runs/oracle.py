@@ -2,25 +2,31 @@
 
 from __future__ import annotations
 
-import json
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
 from talkdem.instructions import Instruction
-from talkdem.runs.external import score_plan_file
+from talkdem.runs.external import plans_digest, score_plans
+from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, read_header, run_lock
 from talkdem.tasks import get_task
 
-__all__ = ["write_oracle_run"]
+__all__ = ["ORACLE_NAME", "ORACLE_STRATEGY", "write_oracle_run"]
+
+ORACLE_NAME = "oracle"
+ORACLE_STRATEGY = "reference plans"
 
 
 def write_oracle_run(episodes: Sequence[Instruction], run_dir: Path) -> int:
-    """A run directory (planner `external`, name `oracle`) whose plans are the tasks' reference plans."""
-    with tempfile.TemporaryDirectory() as scratch:
-        plan_file = Path(scratch) / "oracle.jsonl"
-        rows = [{"episode_id": e.id, "plan": list(get_task(e.task_id).reference_plan)} for e in episodes]
-        plan_file.write_text("".join(json.dumps(row) + "\n" for row in rows))
-        if run_dir.exists():
-            for old in run_dir.iterdir():
-                old.unlink()
-        return score_plan_file(plan_file, run_dir, "oracle", strategy="reference plans")
+    """A run directory (planner `external`, name `oracle`) whose plans are the tasks' reference plans.
+
+    An oracle run of another sample in `run_dir` is replaced (it is derived data, cheap to remake); any
+    other run there is refused by `score_plans`, never deleted."""
+    plans = {e.id: get_task(e.task_id).reference_plan for e in episodes}
+    if (run_dir / HEADER_FILE).is_file():
+        with run_lock(run_dir):
+            header = read_header(run_dir)
+            is_ours = header.planner == "external" and header.model.get("name") == ORACLE_NAME
+            if is_ours and header.config.get("plans_sha256") != plans_digest(plans):
+                for name in (EPISODES_FILE, HEADER_FILE):
+                    (run_dir / name).unlink(missing_ok=True)
+    return score_plans(plans, run_dir, ORACLE_NAME, strategy=ORACLE_STRATEGY, source="reference plans")

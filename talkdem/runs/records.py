@@ -10,13 +10,46 @@ benchmark never requires our planner.
 
 from __future__ import annotations
 
+import datetime as dt
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-__all__ = ["RUN_SCHEMA", "EpisodeRecord", "RunHeader"]
+from talkdem.instructions import CLEAN, Condition, parse_instruction_id
+from talkdem.plans import PlanFormatError, check_plan
+
+if TYPE_CHECKING:
+    from talkdem.instructions import Instruction
+    from talkdem.sim import EpisodeTrace
+
+__all__ = ["RUN_SCHEMA", "EpisodeRecord", "RecordError", "RunHeader"]
 
 RUN_SCHEMA = "talkdem-run/1"
+
+
+class RecordError(ValueError):
+    """A stored header or episode that does not have the run schema's shape."""
+
+
+def _field(data: Mapping[str, Any], name: str, kind: type | tuple[type, ...], where: str, default: Any = ...) -> Any:
+    if name not in data:
+        if default is ...:
+            raise RecordError(f"{where}: missing field '{name}'")
+        return default
+    value = data[name]
+    # bool is an int in Python; a level or a count of True is a hand-edit, not a number.
+    if not isinstance(value, kind) or (isinstance(value, bool) and kind is int):
+        expected = kind.__name__ if isinstance(kind, type) else " or ".join(k.__name__ for k in kind)
+        raise RecordError(f"{where}: field '{name}' must be {expected}, got {type(value).__name__}")
+    return value
+
+
+def _stored_plan(data: Mapping[str, Any], where: str) -> tuple[str, ...]:
+    try:
+        return check_plan(_field(data, "plan", object, where), where)
+    except PlanFormatError as exc:
+        raise RecordError(str(exc)) from None
 
 
 @dataclass(frozen=True)
@@ -32,9 +65,29 @@ class RunHeader:
     dataset_hash: str
     code_revision: str
     config: dict[str, Any] = field(default_factory=dict)
-    """Planner settings (step limit, scoring, feedback policy), conditions, sample size, seed."""
+    """Planner settings (step limit, scoring, feedback policy), conditions, sample size, seed, and
+    `planned_episodes`: how many episodes the run was asked for (a smaller count on disk = incomplete)."""
     schema: str = RUN_SCHEMA
     created: str = ""
+
+    @classmethod
+    def new(
+        cls, *, model: dict[str, str], planner: str, strategy: str, prompt_version: str, config: dict[str, Any]
+    ) -> RunHeader:
+        """A header for a run starting now, on this dataset and this code revision."""
+        from talkdem.instructions import dataset_hash
+        from talkdem.runs.revision import code_revision
+
+        return cls(
+            model=model,
+            planner=planner,
+            strategy=strategy,
+            prompt_version=prompt_version,
+            dataset_hash=dataset_hash(),
+            code_revision=code_revision(),
+            config=config,
+            created=dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
+        )
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -50,22 +103,25 @@ class RunHeader:
         }
 
     @classmethod
-    def from_json(cls, data: dict[str, Any]) -> RunHeader:
-        missing = [k for k in ("model", "planner", "strategy", "prompt_version", "dataset_hash") if k not in data]
-        if missing:
-            raise ValueError(f"run header lacks {', '.join(missing)}")
-        if data.get("schema", RUN_SCHEMA) != RUN_SCHEMA:
-            raise ValueError(f"run header schema {data.get('schema')!r} is not {RUN_SCHEMA!r}")
+    def from_json(cls, data: object, where: str = "run header") -> RunHeader:
+        if not isinstance(data, dict):
+            raise RecordError(f"{where}: expected a JSON object, got {type(data).__name__}")
+        schema = _field(data, "schema", str, where, RUN_SCHEMA)
+        if schema != RUN_SCHEMA:
+            raise RecordError(f"{where}: schema {schema!r} is not {RUN_SCHEMA!r}")
+        model = _field(data, "model", dict, where)
+        if not all(isinstance(k, str) and isinstance(v, str) for k, v in model.items()):
+            raise RecordError(f"{where}: field 'model' must map names to strings")
         return cls(
-            model=dict(data["model"]),
-            planner=data["planner"],
-            strategy=data["strategy"],
-            prompt_version=data["prompt_version"],
-            dataset_hash=data["dataset_hash"],
-            code_revision=data.get("code_revision", ""),
-            config=dict(data.get("config", {})),
-            schema=data.get("schema", RUN_SCHEMA),
-            created=data.get("created", ""),
+            model=dict(model),
+            planner=_field(data, "planner", str, where),
+            strategy=_field(data, "strategy", str, where),
+            prompt_version=_field(data, "prompt_version", str, where),
+            dataset_hash=_field(data, "dataset_hash", str, where),
+            code_revision=_field(data, "code_revision", str, where, ""),
+            config=dict(_field(data, "config", dict, where, {})),
+            schema=schema,
+            created=_field(data, "created", str, where, ""),
         )
 
 
@@ -74,7 +130,7 @@ class EpisodeRecord:
     """One episode: the instruction, the plan, and what the simulator made of it."""
 
     episode_id: str
-    """The instruction id, `<task_id>:clean` or `<task_id>:<pattern>:<level>`."""
+    """The instruction id, `<task_id>:clean:0` or `<task_id>:<pattern>:<level>`."""
     task_id: str
     pattern: str
     """`clean` or a pattern config name."""
@@ -93,6 +149,40 @@ class EpisodeRecord:
     """What the planner saw, when a strategy rewrote it (TOCC)."""
     notes: dict[str, str] = field(default_factory=dict)
     timing: dict[str, float] = field(default_factory=dict)
+
+    @classmethod
+    def from_trace(
+        cls,
+        instruction: Instruction,
+        plan: tuple[str, ...],
+        trace: EpisodeTrace,
+        *,
+        shown: str = "",
+        notes: dict[str, str] | None = None,
+        timing: dict[str, float] | None = None,
+    ) -> EpisodeRecord:
+        """The record of `instruction` planned as `plan` and executed into `trace` (the one constructor
+        every writer uses, so our planner's runs and scored external plans cannot drift apart)."""
+        summary = trace.summary()
+        return cls(
+            episode_id=instruction.id,
+            task_id=instruction.task_id,
+            pattern=instruction.condition.pattern,
+            level=instruction.condition.level,
+            instruction=instruction.text,
+            instruction_shown=shown if shown != instruction.text else "",
+            plan=plan,
+            success=trace.success,
+            hazards=tuple(summary["hazards"]),
+            goal_conditions=summary["goal_conditions"],
+            trace=trace.to_json(),
+            notes=notes or {},
+            timing=timing or {},
+        )
+
+    @property
+    def condition(self) -> Condition:
+        return Condition(CLEAN, 0) if self.pattern == CLEAN else Condition(self.pattern, self.level)
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -115,19 +205,37 @@ class EpisodeRecord:
         return json.dumps(self.to_json(), ensure_ascii=False, sort_keys=False)
 
     @classmethod
-    def from_json(cls, data: dict[str, Any]) -> EpisodeRecord:
-        return cls(
-            episode_id=data["episode_id"],
-            task_id=data["task_id"],
-            pattern=data["pattern"],
-            level=int(data["level"]),
-            instruction=data["instruction"],
-            plan=tuple(data["plan"]),
-            success=bool(data["success"]),
-            hazards=tuple(data.get("hazards", ())),
-            goal_conditions=dict(data.get("goal_conditions", {})),
-            trace=dict(data.get("trace", {})),
-            instruction_shown=data.get("instruction_shown", ""),
-            notes=dict(data.get("notes", {})),
-            timing=dict(data.get("timing", {})),
+    def from_json(cls, data: object, where: str = "episode record") -> EpisodeRecord:
+        """A validated record: field types, a plan of skill strings, and an id that agrees with the
+        task, pattern and level stored beside it (a hand-edited record is refused, not scored)."""
+        if not isinstance(data, dict):
+            raise RecordError(f"{where}: expected a JSON object, got {type(data).__name__}")
+        episode_id = _field(data, "episode_id", str, where)
+        where = f"{where} ({episode_id})"
+        record = cls(
+            episode_id=episode_id,
+            task_id=_field(data, "task_id", str, where),
+            pattern=_field(data, "pattern", str, where),
+            level=_field(data, "level", int, where),
+            instruction=_field(data, "instruction", str, where),
+            plan=_stored_plan(data, where),
+            success=_field(data, "success", bool, where),
+            hazards=tuple(_field(data, "hazards", list, where, [])),
+            goal_conditions=dict(_field(data, "goal_conditions", dict, where, {})),
+            trace=dict(_field(data, "trace", dict, where, {})),
+            instruction_shown=_field(data, "instruction_shown", str, where, ""),
+            notes=dict(_field(data, "notes", dict, where, {})),
+            timing=dict(_field(data, "timing", dict, where, {})),
         )
+        try:
+            task_id, condition = parse_instruction_id(episode_id)
+        except ValueError as exc:
+            raise RecordError(f"{where}: {exc}") from None
+        if (task_id, condition) != (record.task_id, record.condition) or (
+            condition.pattern == CLEAN and record.level != 0
+        ):
+            raise RecordError(
+                f"{where}: the id does not match task_id '{record.task_id}', pattern '{record.pattern}', "
+                f"level {record.level}"
+            )
+        return record

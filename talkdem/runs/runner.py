@@ -2,26 +2,36 @@
 
 from __future__ import annotations
 
-import datetime as dt
+import contextlib
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from talkdem.instructions import Instruction, dataset_hash
+from talkdem.instructions import Instruction
 from talkdem.llm.base import LanguageModel
 from talkdem.planner.prompt import prompt_version
 from talkdem.planner.saycan import PlanResult, SayCanConfig, SayCanPlanner
 from talkdem.planner.strategies import Strategy
 from talkdem.runs.records import EpisodeRecord, RunHeader
-from talkdem.runs.revision import code_revision
-from talkdem.runs.store import EpisodeWriter, read_episodes, read_header, write_header
+from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, EpisodeWriter, open_run, run_lock
 from talkdem.tasks import get_task
 
-__all__ = ["RunSummary", "episode_record", "run_episodes"]
+__all__ = ["RESUME_KEYS", "RunSummary", "episode_record", "run_episodes"]
 
-# Fields that must match for a run directory to be resumed with new episodes.
-_RESUME_KEYS = ("model", "planner", "strategy", "prompt_version", "dataset_hash")
+# What must match for a run directory to be resumed with new episodes: everything that changes what an
+# episode's outcome means. The selection (conditions, sample size) may grow between sittings.
+RESUME_KEYS = (
+    "model",
+    "planner",
+    "strategy",
+    "prompt_version",
+    "dataset_hash",
+    "config.max_steps",
+    "config.scoring",
+    "config.mask_failed",
+    "config.mode",
+)
 
 
 @dataclass(frozen=True)
@@ -35,31 +45,14 @@ class RunSummary:
 
 
 def episode_record(instruction: Instruction, result: PlanResult, shown: str, notes: dict[str, str]) -> EpisodeRecord:
-    summary = result.trace.summary()
-    return EpisodeRecord(
-        episode_id=instruction.id,
-        task_id=instruction.task_id,
-        pattern=instruction.condition.pattern,
-        level=instruction.condition.level,
-        instruction=instruction.text,
-        instruction_shown=shown if shown != instruction.text else "",
-        plan=result.plan,
-        success=result.trace.success,
-        hazards=tuple(summary["hazards"]),
-        goal_conditions=summary["goal_conditions"],
-        trace=result.trace.to_json(),
+    return EpisodeRecord.from_trace(
+        instruction,
+        result.plan,
+        result.trace,
+        shown=shown,
         notes=notes,
         timing={"planning_seconds": round(result.planning_seconds, 3)},
     )
-
-
-def _check_resumable(run_dir: Path, header: RunHeader) -> None:
-    existing = read_header(run_dir).to_json()
-    wanted = header.to_json()
-    clashes = [key for key in _RESUME_KEYS if existing[key] != wanted[key]]
-    if clashes:
-        details = "; ".join(f"{k}: {existing[k]!r} there, {wanted[k]!r} now" for k in clashes)
-        raise ValueError(f"{run_dir} holds a different run ({details}); choose another --out")
 
 
 def run_episodes(
@@ -72,30 +65,55 @@ def run_episodes(
     progress: bool = True,
 ) -> RunSummary:
     """Plan and execute every instruction not yet in `run_dir`; each finished episode is on disk at once."""
-    from tqdm import tqdm
-
     config = config or SayCanConfig()
-    header = RunHeader(
+    header = RunHeader.new(
         model={"backend": model.identity.backend, "name": model.identity.name, "revision": model.identity.revision},
         planner=config.planner_name,
         strategy=strategy.name,
         prompt_version=prompt_version(),
-        dataset_hash=dataset_hash(),
-        code_revision=code_revision(),
         config={
             "max_steps": config.max_steps,
             "scoring": config.scoring,
             "mask_failed": config.mask_failed,
             "mode": config.mode,
             **(extra_config or {}),
+            "planned_episodes": len(instructions),
         },
-        created=dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
     )
-    if (run_dir / "header.json").is_file():
-        _check_resumable(run_dir, header)
-    else:
-        write_header(run_dir, header)
-    done = {episode.episode_id for episode in read_episodes(run_dir, repair=True)}
+    is_new = not run_dir.exists()
+    try:
+        with run_lock(run_dir):
+            return _run_locked(instructions, model, strategy, run_dir, header, config, progress)
+    except BaseException:
+        if is_new:
+            _remove_if_empty(run_dir)
+        raise
+
+
+def _remove_if_empty(run_dir: Path) -> None:
+    """Undo a run directory this call created when not one episode finished (an unreachable server, a
+    model that fails on the first step): an empty run would later resume as if it were this run."""
+    episodes = run_dir / EPISODES_FILE
+    if episodes.exists() and episodes.stat().st_size:
+        return
+    for name in (EPISODES_FILE, HEADER_FILE):
+        (run_dir / name).unlink(missing_ok=True)
+    with contextlib.suppress(OSError):  # not empty: something else put files there meanwhile
+        run_dir.rmdir()
+
+
+def _run_locked(
+    instructions: Sequence[Instruction],
+    model: LanguageModel,
+    strategy: Strategy,
+    run_dir: Path,
+    header: RunHeader,
+    config: SayCanConfig,
+    progress: bool,
+) -> RunSummary:
+    from tqdm import tqdm
+
+    done = {episode.episode_id for episode in open_run(run_dir, header, RESUME_KEYS)}
     pending = [i for i in instructions if i.id not in done]
     planner = SayCanPlanner(model, config)
     successes = 0

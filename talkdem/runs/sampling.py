@@ -16,7 +16,7 @@ ALL_CONDITIONS: tuple[Condition, ...] = (
 
 def parse_conditions(text: str | None) -> tuple[Condition, ...]:
     """`clean,intrusion:3,topic_drift` -> conditions; a pattern without a level means all three levels."""
-    if not text:
+    if text is None:
         return ALL_CONDITIONS
     conditions: list[Condition] = []
     for part in (p.strip() for p in text.split(",")):
@@ -26,6 +26,8 @@ def parse_conditions(text: str | None) -> tuple[Condition, ...]:
             conditions += [Condition.parse(f"{part}:{level}") for level in (1, 2, 3)]
         else:
             conditions.append(Condition.parse(part))
+    if not conditions:
+        raise ValueError(f"no condition in '{text}': expected e.g. clean,intrusion:3,topic_drift")
     return tuple(dict.fromkeys(conditions))
 
 

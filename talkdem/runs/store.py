@@ -1,64 +1,194 @@
-"""Reading and appending run directories; a run killed mid-write resumes without losing finished episodes."""
+"""Reading and appending run directories, safely: one writer at a time, nothing lost, nothing mixed.
+
+    RUN_DIR/header.json      what the run is (model, planner, strategy, settings); written first
+    RUN_DIR/episodes.jsonl   one finished episode per line, flushed and fsynced as it finishes
+
+A run killed mid-write resumes without losing finished episodes: a truncated last line is cut before
+anything is appended, so a new record is never glued onto half of an old one. Two processes on one run
+directory would both append every episode; the second is refused while the first holds the lock. A run
+resumed with settings that change results (another model, step limit, scoring, ...) is refused, since
+its episodes could not be pooled; so is a folder of episodes without the header that says whose they are.
+"""
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 import warnings
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 from talkdem.runs.records import EpisodeRecord, RunHeader
+from talkdem.serialization import parse_json
 
-__all__ = ["EPISODES_FILE", "HEADER_FILE", "EpisodeWriter", "read_episodes", "read_header", "write_header"]
+__all__ = [
+    "EPISODES_FILE",
+    "HEADER_FILE",
+    "EpisodeWriter",
+    "RunInUseError",
+    "RunProgress",
+    "open_run",
+    "read_episodes",
+    "read_header",
+    "run_lock",
+    "run_progress",
+    "write_header",
+]
 
 HEADER_FILE = "header.json"
 EPISODES_FILE = "episodes.jsonl"
 
 
+class RunInUseError(ValueError):
+    """Another process is writing the run directory."""
+
+
 def write_header(run_dir: Path, header: RunHeader) -> None:
+    """Write `header.json` atomically (a crash leaves the old header or the new one, never half)."""
     run_dir.mkdir(parents=True, exist_ok=True)
-    (run_dir / HEADER_FILE).write_text(json.dumps(header.to_json(), indent=2) + "\n")
+    path = run_dir / HEADER_FILE
+    scratch = path.with_name(f".{HEADER_FILE}.{os.getpid()}.tmp")
+    scratch.write_text(json.dumps(header.to_json(), indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    os.replace(scratch, path)
 
 
 def read_header(run_dir: Path) -> RunHeader:
     path = run_dir / HEADER_FILE
     if not path.is_file():
-        raise FileNotFoundError(f"{path}: not a run directory (no {HEADER_FILE})")
+        raise FileNotFoundError(f"{run_dir}: not a run directory (no {HEADER_FILE} file)")
     try:
-        return RunHeader.from_json(json.loads(path.read_text()))
-    except (json.JSONDecodeError, ValueError) as exc:
-        raise ValueError(f"{path}: {exc}") from exc
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read the run header ({exc})") from None
+    return RunHeader.from_json(parse_json(text, str(path)), str(path))
 
 
 def read_episodes(run_dir: Path, *, repair: bool = False) -> list[EpisodeRecord]:
-    """Episodes in file order. A truncated last line (a run killed while writing) is dropped with a
-    warning, and cut from the file when `repair` is set; a bad line elsewhere is an error naming it."""
+    """Episodes in file order, each validated. A truncated last line (a run killed while writing) is
+    dropped with a warning, and cut from the file when `repair` is set; a bad line elsewhere, or an
+    episode id stored twice, is an error naming the line."""
     path = run_dir / EPISODES_FILE
     if not path.is_file():
         return []
-    raw = path.read_bytes()
-    lines = raw.split(b"\n")
+    lines = path.read_bytes().split(b"\n")
     episodes: list[EpisodeRecord] = []
+    first_line: dict[str, int] = {}
     good_bytes = 0
     for number, line in enumerate(lines, start=1):
         if not line.strip():
             good_bytes += len(line) + 1
             continue
+        where = f"{path}, line {number}"
         try:
-            episodes.append(EpisodeRecord.from_json(json.loads(line)))
-        except (json.JSONDecodeError, KeyError, TypeError, ValueError) as exc:
-            is_last = all(not rest.strip() for rest in lines[number:])
-            if not is_last:
-                raise ValueError(f"{path}, line {number}: not an episode record ({exc})") from exc
-            warnings.warn(
-                f"{path}, line {number}: truncated last record dropped (the run was interrupted)", stacklevel=2
-            )
+            data = json.loads(line.decode("utf-8"))
+        except (json.JSONDecodeError, UnicodeDecodeError):
+            if any(rest.strip() for rest in lines[number:]):
+                raise ValueError(f"{where}: not a JSON record") from None
+            # Only the last line can be cut short by a kill: drop it, the episode runs again on resume.
+            warnings.warn(f"{where}: truncated last record dropped (the run was interrupted)", stacklevel=2)
             if repair:
                 with path.open("r+b") as handle:
                     handle.truncate(good_bytes)
             break
+        except RecursionError:
+            raise ValueError(f"{where}: JSON nested too deeply to read") from None
+        # A complete line that is not a valid record is a hand-edit: refused, never scored.
+        record = EpisodeRecord.from_json(data, where)
+        if record.episode_id in first_line:
+            raise ValueError(
+                f"{where}: episode '{record.episode_id}' is stored twice (first on line "
+                f"{first_line[record.episode_id]}); two processes wrote this run"
+            )
+        first_line[record.episode_id] = number
+        episodes.append(record)
         good_bytes += len(line) + 1
     return episodes
+
+
+@contextmanager
+def run_lock(run_dir: Path) -> Iterator[None]:
+    """Hold an exclusive lock on the run directory (POSIX `flock` on the folder itself, so no lock file
+    is left behind); a second writer fails at once with `RunInUseError`. The lock ends with the process,
+    so a killed run never leaves a stale lock."""
+    if run_dir.exists() and not run_dir.is_dir():
+        raise ValueError(f"{run_dir}: exists and is not a folder; choose another --out")
+    run_dir.mkdir(parents=True, exist_ok=True)
+    descriptor = os.open(run_dir, os.O_RDONLY)
+    try:
+        try:
+            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise RunInUseError(
+                f"{run_dir}: another talkdem process is writing this run; wait for it or choose another --out"
+            ) from None
+        yield
+    finally:
+        os.close(descriptor)
+
+
+def _check_same_run(run_dir: Path, existing: RunHeader, wanted: RunHeader, must_match: Sequence[str]) -> None:
+    def value(header: RunHeader, key: str) -> Any:
+        if key.startswith("config."):
+            return header.config.get(key.removeprefix("config."))
+        return header.to_json()[key]
+
+    clashes = [key for key in must_match if value(existing, key) != value(wanted, key)]
+    if clashes:
+        details = "; ".join(f"{k}: {value(existing, k)!r} there, {value(wanted, k)!r} now" for k in clashes)
+        raise ValueError(f"{run_dir} holds a different run ({details}); choose another --out")
+
+
+def open_run(run_dir: Path, header: RunHeader, must_match: Sequence[str]) -> list[EpisodeRecord]:
+    """Start `run_dir` with `header`, or check that the run already there is the same run (every key of
+    `must_match`, top-level header fields or `config.NAME`, equal) and return its finished episodes.
+
+    The caller holds `run_lock(run_dir)`. On resume the header keeps its creation date and takes the new
+    selection (conditions, sample size, planned episode count): extending a run to more tasks is allowed,
+    changing what a result means is not. Nothing is ever deleted here but a truncated last line."""
+    header_path = run_dir / HEADER_FILE
+    if header_path.exists():
+        existing = read_header(run_dir)
+        _check_same_run(run_dir, existing, header, must_match)
+        done = read_episodes(run_dir, repair=True)
+        write_header(
+            run_dir,
+            RunHeader(**{**existing.__dict__, "config": {**existing.config, **header.config}}),
+        )
+        return done
+    if run_dir.is_dir() and any(run_dir.iterdir()):
+        what = "episodes without a header" if (run_dir / EPISODES_FILE).exists() else "other files"
+        raise ValueError(
+            f"{run_dir}: holds {what}, not a run directory; choose an empty or new --out (nothing there was changed)"
+        )
+    write_header(run_dir, header)
+    return []
+
+
+class RunProgress:
+    """How much of a run is on disk: `done` of `planned` episodes (`planned` is None for runs written
+    before the header recorded it)."""
+
+    def __init__(self, done: int, planned: int | None) -> None:
+        self.done = done
+        self.planned = planned
+
+    @property
+    def complete(self) -> bool:
+        return self.planned is None or self.done >= self.planned
+
+    def __str__(self) -> str:
+        if self.planned is None:
+            return f"{self.done} episodes"
+        state = "complete" if self.complete else "INCOMPLETE"
+        return f"{self.done} of {self.planned} episodes ({state})"
+
+
+def run_progress(run_dir: Path) -> RunProgress:
+    planned = read_header(run_dir).config.get("planned_episodes")
+    return RunProgress(len(read_episodes(run_dir)), planned if isinstance(planned, int) else None)
 
 
 class EpisodeWriter:
@@ -67,7 +197,22 @@ class EpisodeWriter:
     def __init__(self, run_dir: Path) -> None:
         self.path = run_dir / EPISODES_FILE
         run_dir.mkdir(parents=True, exist_ok=True)
+        self._end_last_line()
         self._handle = self.path.open("a", encoding="utf-8")
+
+    def _end_last_line(self) -> None:
+        # A complete last record written without its newline (killed between the two writes) must not
+        # have the next record glued onto it; a truncated one is cut by `read_episodes(repair=True)`.
+        if not self.path.is_file() or self.path.stat().st_size == 0:
+            return
+        with self.path.open("rb") as handle:
+            handle.seek(-1, os.SEEK_END)
+            ends_with_newline = handle.read(1) == b"\n"
+        if not ends_with_newline:
+            read_episodes(self.path.parent, repair=True)
+            if self.path.stat().st_size and not self.path.read_bytes().endswith(b"\n"):
+                with self.path.open("ab") as handle:
+                    handle.write(b"\n")
 
     def write(self, episode: EpisodeRecord) -> None:
         self._handle.write(episode.to_line() + "\n")

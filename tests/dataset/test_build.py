@@ -97,16 +97,45 @@ def test_truncated_checkpoint_line_is_recovered(reference_build: BuildResult, tm
     assert dataset_files(out) == dataset_files(reference_build.folder)
 
 
-def test_checkpoint_of_another_build_is_discarded(tmp_path: Path) -> None:
+def test_checkpoint_of_another_build_is_refused_and_kept(tmp_path: Path) -> None:
     from builders.build import read_checkpoint
 
     checkpoint = tmp_path / "checkpoint.jsonl"
-    checkpoint.write_text(json.dumps({"checkpoint": 1, "generator": "rules", "prompt_version": "x", "seed": 7}) + "\n")
-    with pytest.warns(CheckpointWarning, match="another build"):
-        assert (
-            read_checkpoint(checkpoint, {"checkpoint": 1, "generator": "rules", "prompt_version": "x", "seed": 0}) == {}
-        )
-    assert not checkpoint.exists()
+    text = json.dumps({"checkpoint": 1, "generator": "rules", "prompt_version": "x", "seed": 7}) + "\n"
+    checkpoint.write_text(text)
+    with pytest.raises(ValueError, match="checkpoint of another build"):
+        read_checkpoint(checkpoint, {"checkpoint": 1, "generator": "rules", "prompt_version": "x", "seed": 0})
+    assert checkpoint.read_text() == text
+
+
+def test_a_file_that_is_not_a_checkpoint_is_never_overwritten(tmp_path: Path) -> None:
+    precious = tmp_path / "notes.txt"
+    precious.write_text("three hours of notes\n")
+    with pytest.raises(ValueError, match="is not a TALK-Dem build checkpoint"):
+        build(tmp_path / "out", checkpoint=precious, progress=False, limit=1)
+    assert precious.read_text() == "three hours of notes\n"
+
+
+def test_a_smoke_build_keeps_the_full_builds_checkpoint() -> None:
+    from builders.build import default_checkpoint
+
+    assert default_checkpoint("rules", 0, 3) != default_checkpoint("rules", 0)
+    assert default_checkpoint("rules", 0, 3) != default_checkpoint("rules", 0, 4)
+
+
+def test_the_build_refuses_a_folder_that_is_not_a_dataset(tmp_path: Path) -> None:
+    (tmp_path / "README.md").write_text("# my project\n")
+    with pytest.raises(ValueError, match="not a TALK-Dem dataset folder"):
+        build(tmp_path, checkpoint=tmp_path.parent / "c.jsonl", progress=False, limit=1)
+    assert (tmp_path / "README.md").read_text() == "# my project\n"
+
+
+def test_two_builds_on_one_checkpoint(tmp_path: Path) -> None:
+    from builders.build import CheckpointInUseError, _checkpoint_lock
+
+    path = tmp_path / "c.jsonl"
+    with _checkpoint_lock(path), pytest.raises(CheckpointInUseError, match="another build"):
+        build(tmp_path / "out", checkpoint=path, progress=False, limit=1)
 
 
 def test_another_seed_gives_other_utterances(tmp_path: Path) -> None:

@@ -1,0 +1,45 @@
+"""Argument types shared by the subcommands: a bad value is refused by argparse with one line naming the
+option, before any work starts (a `--limit 0` run that does nothing and exits 0 looks like a success)."""
+
+from __future__ import annotations
+
+import argparse
+import re
+
+__all__ = ["hub_repo_id", "non_negative_int", "positive_int"]
+
+# The Hub's rule for repository ids: ORG/NAME, letters, digits, '-', '_', '.', no leading/trailing '-'/'.'.
+_REPO_PART = r"[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?"
+_REPO_ID = re.compile(rf"{_REPO_PART}/{_REPO_PART}")
+
+
+def _integer(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+
+
+def positive_int(text: str) -> int:
+    """1, 2, ...: counts of tasks, steps, threads."""
+    value = _integer(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def non_negative_int(text: str) -> int:
+    """0, 1, ...: counts where 0 means 'none' (bootstrap resamples)."""
+    value = _integer(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
+    return value
+
+
+def hub_repo_id(text: str) -> str:
+    """`ORG/NAME` as the Hugging Face Hub accepts it."""
+    if not _REPO_ID.fullmatch(text) or ".." in text or "--" in text:
+        raise argparse.ArgumentTypeError(
+            f"'{text}' is not a Hub repository id (ORG/NAME: letters, digits, '-', '_', '.')"
+        )
+    return text
