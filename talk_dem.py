@@ -188,25 +188,40 @@ TASK_FEATURES = datasets.Features(
 
 
 def _default_folder() -> str:
-    return os.environ.get("TALKDEM_DATA_DIR") or str(Path(__file__).resolve().parent / "data")
+    from talkdem.paths import data_dir  # the checkout's data/, $TALKDEM_DATA_DIR, or the wheel's copy
+
+    return str(data_dir())
 
 
-def load(pattern: str, level: int | None = None, *, path: str | None = None, **kwargs: Any) -> datasets.Dataset:
-    """One split: `load("intrusion", 2)`, `load("clean")`, `load("memory_bank")`, `load("tasks")`.
+_DEFAULT_SPLITS = {CLEAN: "test", "memory_bank": "train", "tasks": "benchmark"}
 
-    `path` is the dataset folder or a Hub repository id (default: `data/` beside this file, or
-    `$TALKDEM_DATA_DIR`); other keyword arguments go to `datasets.load_dataset`.
+
+def load(
+    pattern: str, level: int | None = None, *, split: str | None = None, path: str | None = None, **kwargs: Any
+) -> datasets.Dataset:
+    """One split: `load("intrusion", 2)`, `load("clean")`, `load("memory_bank")`, `load("tasks")`,
+    `load("tasks", split="memory")`.
+
+    `path` is a dataset folder or a Hub repository id (`ORG/talk-dem`; read from the Hugging Face cache
+    when offline). The default is the dataset this package carries: `data/` of a checkout, the copy in
+    the installed wheel, or `$TALKDEM_DATA_DIR`. Other keyword arguments go to `datasets.load_dataset`.
+    The clean control is level 0 in episode ids (`<task>:clean:0`), so `load("clean", 0)` is accepted.
     """
     if pattern in PATTERNS:
         if level not in LEVELS:
             raise ValueError(f"pattern '{pattern}' needs a level in {LEVELS}, got {level}")
-        split = split_name(level)
-    elif pattern in (CLEAN, "memory_bank", "tasks"):
-        if level is not None:
+        chosen = split_name(level)
+    elif pattern in _DEFAULT_SPLITS:
+        if level not in (None, 0) or (level == 0 and pattern != CLEAN):
             raise ValueError(f"config '{pattern}' has no levels")
-        split = {CLEAN: "test", "memory_bank": "train", "tasks": "benchmark"}[pattern]
+        chosen = _DEFAULT_SPLITS[pattern]
     else:
         raise ValueError(f"unknown config '{pattern}': expected one of {', '.join(CONFIGS)}")
-    result = datasets.load_dataset(path or _default_folder(), pattern, split=split, **kwargs)
+    if split is not None and pattern in PATTERNS and split != chosen:
+        raise ValueError(f"give either a level or a split for '{pattern}', not both ({level} vs '{split}')")
+    source = path or _default_folder()
+    if path and not Path(path).exists() and path.count("/") != 1:
+        raise ValueError(f"'{path}' is neither a dataset folder nor a Hub repository id (ORG/NAME)")
+    result = datasets.load_dataset(source, pattern, split=split or chosen, **kwargs)
     assert isinstance(result, datasets.Dataset)
     return result

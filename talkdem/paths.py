@@ -17,8 +17,10 @@ __all__ = [
     "FLOORPLANS_DIR_ENV",
     "SHARED_DATA_ENV",
     "alfred_dir",
+    "bundled_dir",
     "cache_dir",
     "data_dir",
+    "evaluate_module_dir",
     "floorplans_dir",
     "repo_root",
     "shared_data_dir",
@@ -54,10 +56,30 @@ def floorplans_dir(override: str | Path | None = None) -> Path:
     return Path(chosen) if chosen else shared_data_dir() / "floorplans"
 
 
+def bundled_dir() -> Path:
+    """Where an installed wheel carries the dataset and the `evaluate` module (`setup.py` copies them)."""
+    return Path(__file__).resolve().parent / "_bundled"
+
+
+def _checkout_or_bundled(name: str, marker: str) -> Path:
+    # A checkout's own folder wins (it is what the builders write); an installed wheel has only its copy.
+    in_checkout = repo_root() / name
+    if (in_checkout / marker).is_file():
+        return in_checkout
+    bundled = bundled_dir() / name
+    return bundled if (bundled / marker).is_file() else in_checkout
+
+
 def data_dir(override: str | Path | None = None) -> Path:
-    """The generated dataset folder (`data/`), committed with the project."""
+    """The generated dataset folder: argument, `$TALKDEM_DATA_DIR`, the checkout's `data/`, else the copy
+    bundled in the installed wheel."""
     chosen = override or os.environ.get(DATA_DIR_ENV)
-    return Path(chosen) if chosen else repo_root() / "data"
+    return Path(chosen) if chosen else _checkout_or_bundled("data", "README.md")
+
+
+def evaluate_module_dir() -> Path:
+    """The `evaluate` metric module's folder, for `evaluate.load(str(evaluate_module_dir()))`."""
+    return _checkout_or_bundled("evaluate_talkdem", "evaluate_talkdem.py")
 
 
 def cache_dir() -> Path:

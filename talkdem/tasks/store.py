@@ -82,7 +82,10 @@ def write_tasks(tasks: list[Task], path: Path) -> None:
 @cache
 def _load(path: Path) -> tuple[Task, ...]:
     if not path.is_file():
-        raise FileNotFoundError(f"{path}: task file not found (run `talkdem select --write` to build it)")
+        raise FileNotFoundError(
+            f"{path}: task file not found (not a TALK-Dem dataset folder: point TALKDEM_DATA_DIR at one, "
+            "or reinstall the package, whose wheel carries the dataset)"
+        )
     tasks = []
     for line_no, line in enumerate(path.read_text().splitlines(), start=1):
         if not line.strip():

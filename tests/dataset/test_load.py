@@ -102,3 +102,15 @@ def test_loader_module_does_not_clash_with_the_dataset_folder() -> None:
     # datasets refuses a folder `foo/` holding `foo.py`: the declaration module stays outside data/
     assert not list(DATA.glob("*.py"))
     assert (repo_root() / "talk_dem.py").is_file()
+
+
+def test_talk_dem_load_takes_a_split_and_the_clean_level_zero(tmp_path: Path) -> None:
+    assert talk_dem.load("tasks", split="memory", cache_dir=str(tmp_path)).num_rows == 100
+    assert talk_dem.load("tasks", cache_dir=str(tmp_path)).num_rows == 300
+    assert talk_dem.load("clean", 0, cache_dir=str(tmp_path)).num_rows == 300
+    with pytest.raises(ValueError, match="has no levels"):
+        talk_dem.load("tasks", 0)
+    with pytest.raises(ValueError, match="either a level or a split"):
+        talk_dem.load("intrusion", 2, split="level_3")
+    with pytest.raises(ValueError, match="neither a dataset folder nor a Hub repository id"):
+        talk_dem.load("clean", path="no-such-folder")
