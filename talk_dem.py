@@ -11,7 +11,6 @@ It deliberately lives outside the dataset folder: `datasets` refuses a folder `f
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
