@@ -25,6 +25,7 @@ __all__ = [
     "MEMORY_BANK_FEATURES",
     "PATTERNS",
     "TASK_FEATURES",
+    "TASK_TYPES",
     "Pattern",
     "load",
     "split_name",
@@ -118,8 +119,23 @@ PATTERNS: dict[str, Pattern] = {
 
 LEVELS = (1, 2, 3)
 CLEAN = "clean"
-CONFIGS = (*PATTERNS, CLEAN, "memory_bank", "tasks")
-"""Every config of the dataset: one per pattern (splits level_1..level_3), clean, memory_bank, tasks."""
+ALL = "all"
+CONFIGS = (*PATTERNS, CLEAN, ALL, "memory_bank", "tasks")
+"""Every config of the dataset: one per pattern (splits level_1..level_3), clean, all (the 4,800 instructions
+in one split), memory_bank, tasks."""
+
+TASK_TYPES = (
+    "look_at_obj_in_light",
+    "pick_and_place_simple",
+    "pick_and_place_with_movable_recep",
+    "pick_clean_then_place_in_recep",
+    "pick_cool_then_place_in_recep",
+    "pick_heat_then_place_in_recep",
+)
+"""The six ALFRED task types (class labels of `task_type`, in this order)."""
+
+_PATTERN_LABEL = datasets.ClassLabel(names=[CLEAN, *PATTERNS])
+_TASK_TYPE_LABEL = datasets.ClassLabel(names=list(TASK_TYPES))
 
 
 def split_name(level: int) -> str:
@@ -143,8 +159,8 @@ INSTRUCTION_FEATURES = datasets.Features(
     {
         "id": datasets.Value("string"),
         "task_id": datasets.Value("string"),
-        "task_type": datasets.Value("string"),
-        "pattern": datasets.Value("string"),
+        "task_type": _TASK_TYPE_LABEL,
+        "pattern": _PATTERN_LABEL,
         "level": datasets.Value("int32"),
         "instruction": datasets.Value("string"),
         "clean_instruction": datasets.Value("string"),
@@ -173,7 +189,7 @@ TASK_FEATURES = datasets.Features(
     {
         "task_id": datasets.Value("string"),
         "task_set": datasets.Value("string"),
-        "task_type": datasets.Value("string"),
+        "task_type": _TASK_TYPE_LABEL,
         "task_name": datasets.Value("string"),
         "floor_plan": datasets.Value("string"),
         "seed_instruction": datasets.Value("string"),
@@ -192,7 +208,7 @@ def _default_folder() -> str:
     return str(data_dir())
 
 
-_DEFAULT_SPLITS = {CLEAN: "test", "memory_bank": "train", "tasks": "benchmark"}
+_DEFAULT_SPLITS = {CLEAN: "test", ALL: "test", "memory_bank": "train", "tasks": "benchmark"}
 
 
 def load(

@@ -27,6 +27,7 @@ from builders.generation import CLEAN, GenerationRequest, Generator, derive_seed
 from builders.interpretation import interpretation
 from builders.verification import verify
 from talkdem.paths import data_dir, repo_root
+from talkdem.seeds import PddlParams
 from talkdem.tasks import Task, TaskSet, load_tasks
 
 __all__ = [
@@ -102,6 +103,11 @@ def check_output_folder(folder: Path) -> None:
         )
 
 
+def pddl_row(params: PddlParams) -> dict[str, Any]:
+    """The task parameters as stored: a parameter the task type does not use is null, not an empty string."""
+    return {name: (None if value == "" else value) for name, value in asdict(params).items()}
+
+
 # --- one unit ------------------------------------------------------------------------------------------------
 def _patterns() -> tuple[str, ...]:
     from talk_dem import PATTERNS
@@ -155,7 +161,7 @@ def build_unit(generator: Generator, task: Task, base_seed: int) -> list[dict[st
             "instruction": text,
             "clean_instruction": clean,
             "seed_instruction": task.instruction,
-            "pddl_params": asdict(task.pddl_params),
+            "pddl_params": pddl_row(task.pddl_params),
             "floor_plan": task.floor_plan,
             "scene_objects": list(task.scene.scene_objects),
             "verification": check,
@@ -258,7 +264,8 @@ def _write_parquet(rows: Sequence[dict[str, Any]], features: Any, path: Path) ->
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    table = pa.Table.from_pylist(list(rows), schema=features.arrow_schema)
+    # encode_example turns class-label names into their integer ids, as `datasets` stores them.
+    table = pa.Table.from_pylist([features.encode_example(row) for row in rows], schema=features.arrow_schema)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp")
     pq.write_table(table, tmp, compression="zstd", row_group_size=len(rows) or 1)
@@ -283,7 +290,7 @@ def _task_row(task: Task) -> dict[str, Any]:
         "floor_plan": task.floor_plan,
         "seed_instruction": task.instruction,
         "interpretation": interpretation(task.task_type, params),
-        "pddl_params": asdict(params),
+        "pddl_params": pddl_row(params),
         "scene_objects": list(task.scene.scene_objects),
         "reference_plan": list(task.reference_plan),
     }

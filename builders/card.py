@@ -28,6 +28,16 @@ def configs_yaml() -> str:
         "  data_files:",
         "  - split: test",
         "    path: clean/test.parquet",
+        "- config_name: all",
+        "  data_files:",
+        "  - split: test",
+        "    path:",
+        "    - clean/test.parquet",
+        *(
+            f"    - {pattern}/{talk_dem.split_name(level)}.parquet"
+            for pattern in talk_dem.PATTERNS
+            for level in talk_dem.LEVELS
+        ),
         "- config_name: memory_bank",
         "  data_files:",
         "  - split: train",
@@ -194,23 +204,26 @@ linguistic research.
 
 ## Dataset Structure
 
-Configs (load with `datasets.load_dataset("<this folder or repo>", "<config>", split=...)`, or
-`talk_dem.load(pattern, level)`):
+Configs (load with `datasets.load_dataset("<org>/talk-dem", "<config>", split=...)` once the dataset is on the
+Hub, where `talkdem push --repo <org>/talk-dem` puts it; `datasets.load_dataset("<this folder>", ...)` for a
+local copy; or `talk_dem.load(pattern, level)` with the copy the package carries):
 
 | Config | Splits | Rows |
 | --- | --- | --- |
 | one per pattern (see below) | `level_1`, `level_2`, `level_3` | 300 per split |
 | `clean` | `test` | 300 |
+| `all` | `test` | 4,800 (clean and every pattern and level) |
 | `memory_bank` | `train` | {memory_items} |
 | `tasks` | `benchmark`, `memory` | 300, 100 |
 
-Instruction rows (`clean` and the five pattern configs): `id` (`task_id:pattern:level`), `task_id` (ALFRED trial
-id), `task_type`, `pattern` (`clean` or the config name), `level` (0 for clean, else 1-3), `instruction` (the
-utterance), `clean_instruction` (the clean control it was transformed from), `seed_instruction` (the ALFRED
-annotation), `pddl_params` (`object_target`, `parent_target`, `mrecep_target`, `toggle_target`,
-`object_sliced`), `floor_plan`, `scene_objects` (object types present in the AI2-THOR scene), `verification`
-(`passed`, `failed_checks`, `attempts`), `generator`, `prompt_version`, `seed` (the per-request seed,
-`derive_seed(build_seed, task_id, pattern, level, attempt)`).
+Instruction rows (`clean`, `all` and the five pattern configs): `id` (`task_id:pattern:level`), `task_id`
+(ALFRED trial id), `task_type` (class label over the six ALFRED types), `pattern` (class label: `clean` or
+the config name), `level` (0 for clean, else 1-3), `instruction` (the utterance), `clean_instruction` (the
+clean control it was transformed from), `seed_instruction` (the ALFRED annotation), `pddl_params`
+(`object_target`, `parent_target`, `mrecep_target`, `toggle_target`, `object_sliced`; a parameter the task
+type does not use is null), `floor_plan`, `scene_objects` (object types present in the AI2-THOR scene),
+`verification` (`passed`, `failed_checks`, `attempts`), `generator`, `prompt_version`, `seed` (the
+per-request seed, `derive_seed(build_seed, task_id, pattern, level, attempt)`).
 
 `memory_bank` rows have the same fields plus `interpretation` (one sentence from the gold task specification)
 and `reference_plan` (the skill sequence that solves the task). `tasks` rows: `task_id`, `task_set`,

@@ -6,9 +6,20 @@ from pathlib import Path
 
 __all__ = ["ALLOW_PATTERNS", "push", "upload_plan"]
 
-ALLOW_PATTERNS = ("README.md", "*/*.parquet", "build_stats.json", "markers.json", "markers.md")
-"""What a dataset repository holds: the card (with its YAML configs), the Parquet files and the reports.
-The task JSONL files and the selection reports under `data/` are build inputs, summarized by the `tasks` config."""
+ALLOW_PATTERNS = (
+    "README.md",
+    "*/*.parquet",
+    "build_stats.json",
+    "markers.json",
+    "markers.md",
+    "tasks/*.jsonl",
+    "prompts/*.jsonl",
+    "selection/*",
+)
+"""What a dataset repository holds: the card (with its YAML configs), the Parquet files and the reports, and
+what scoring a Hub copy needs beyond the viewer's tables: the tasks with their scene data (`tasks/*.jsonl`,
+read by the simulator), the planner's worked examples and the selection report. `TALKDEM_DATA_DIR=ORG/NAME`
+then runs every command on the Hub copy."""
 
 
 def upload_plan(folder: Path) -> list[str]:

@@ -119,6 +119,16 @@ def dataset_configs(folder: Path | None = None) -> dict[str, dict[str, tuple[Pat
     return configs
 
 
+def _class_labels(table: Any) -> dict[str, list[str]]:
+    """Column -> names of the columns `datasets` stores as class labels (integers), from the schema's
+    `huggingface` metadata: read here so that the planner and the metric never import `datasets`."""
+    import json
+
+    metadata = (table.schema.metadata or {}).get(b"huggingface")
+    features = json.loads(metadata).get("info", {}).get("features", {}) if metadata else {}
+    return {name: list(f["names"]) for name, f in features.items() if f.get("_type") == "ClassLabel"}
+
+
 def _rows(config: str, folder: Path | None) -> list[dict[str, Any]]:
     import pyarrow.parquet as pq
 
@@ -128,7 +138,10 @@ def _rows(config: str, folder: Path | None) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     for split in sorted(configs[config]):
         for path in configs[config][split]:
-            rows += pq.read_table(path).to_pylist()
+            table = pq.read_table(path)
+            labels = _class_labels(table)
+            for row in table.to_pylist():
+                rows.append({k: labels[k][v] if k in labels and isinstance(v, int) else v for k, v in row.items()})
     return rows
 
 
@@ -181,8 +194,8 @@ def dataset_hash(folder: Path | None = None) -> str:
     """sha256 over the dataset's declared Parquet files (names and bytes): recorded in every result file."""
     digest = hashlib.sha256()
     root = data_dir(folder)
-    for splits in sorted(dataset_configs(folder).items()):
-        for _, paths in sorted(splits[1].items()):
-            for path in paths:
-                digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
+    # Each file once: the `all` config declares the instruction files a second time.
+    files = {path for splits in dataset_configs(folder).values() for paths in splits.values() for path in paths}
+    for path in sorted(files):
+        digest.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes())
     return digest.hexdigest()

@@ -72,9 +72,14 @@ def _checkout_or_bundled(name: str, marker: str) -> Path:
 
 def data_dir(override: str | Path | None = None) -> Path:
     """The generated dataset folder: argument, `$TALKDEM_DATA_DIR`, the checkout's `data/`, else the copy
-    bundled in the installed wheel."""
+    bundled in the installed wheel. A Hub id (`ORG/talk-dem`) that is not a folder here names the dataset
+    repository, fetched into the Hugging Face cache (`talkdem.hub`)."""
     chosen = override or os.environ.get(DATA_DIR_ENV)
-    return Path(chosen) if chosen else _checkout_or_bundled("data", "README.md")
+    if not chosen:
+        return _checkout_or_bundled("data", "README.md")
+    from talkdem.hub import dataset_snapshot, is_repo_id
+
+    return dataset_snapshot(str(chosen)) if is_repo_id(str(chosen)) else Path(chosen)
 
 
 def evaluate_module_dir() -> Path:

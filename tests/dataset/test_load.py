@@ -14,10 +14,11 @@ DATA = repo_root() / "data"
 SPLITS = {
     **{pattern: [talk_dem.split_name(level) for level in talk_dem.LEVELS] for pattern in talk_dem.PATTERNS},
     "clean": ["test"],
+    "all": ["test"],
     "memory_bank": ["train"],
     "tasks": ["benchmark", "memory"],
 }
-ROWS = {"clean": 300, "memory_bank": 1600, "benchmark": 300, "memory": 100}
+ROWS = {"clean": 300, "all": 4800, "memory_bank": 1600, "benchmark": 300, "memory": 100}
 CASES = [(config, split) for config, splits in SPLITS.items() for split in splits]
 
 
@@ -43,7 +44,7 @@ def test_every_config_and_split_loads(config: str, split: str, tmp_path: Path) -
     assert ds.features == expected
     if config in talk_dem.PATTERNS:
         level = int(split.removeprefix("level_"))
-        assert set(ds["pattern"]) == {config}
+        assert {ds.features["pattern"].int2str(p) for p in ds["pattern"]} == {config}
         assert set(ds["level"]) == {level}
         assert len(set(ds["task_id"])) == 300
 
@@ -78,7 +79,8 @@ def test_memory_bank_is_disjoint_and_complete(tmp_path: Path) -> None:
     assert set(bank["task_id"]) == set(tasks["memory"]["task_id"])
     assert not set(bank["task_id"]) & set(tasks["benchmark"]["task_id"])
     assert all(bank["interpretation"]) and all(bank["reference_plan"])
-    assert sorted({(p, lvl) for p, lvl in zip(bank["pattern"], bank["level"], strict=True)}) == sorted(
+    names = bank.features["pattern"].int2str
+    assert sorted({(names(p), lvl) for p, lvl in zip(bank["pattern"], bank["level"], strict=True)}) == sorted(
         [("clean", 0)] + [(p, lvl) for p in talk_dem.PATTERNS for lvl in talk_dem.LEVELS]
     )
 

@@ -28,6 +28,8 @@ def test_upload_plan_keeps_card_parquet_and_reports(tmp_path: Path) -> None:
         "build_stats.json",
         "clean/test.parquet",
         "intrusion/level_1.parquet",
+        "selection/diversity.md",
+        "tasks/benchmark.jsonl",
         "tasks/benchmark.parquet",
     ]
 

@@ -1,0 +1,55 @@
+"""The dataset by Hub id: a TALK-Dem dataset repository, fetched into the Hugging Face cache.
+
+`TALKDEM_DATA_DIR=ORG/talk-dem` (or `data_dir("ORG/talk-dem")`) makes every command read that copy: the
+Parquet configs, the tasks with their scene data, the planner's worked examples. With `HF_HUB_OFFLINE=1`
+only the cache is read, and a copy that is not there fails at once with one line saying so (no retries).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from functools import cache
+from pathlib import Path
+
+__all__ = ["HubDatasetError", "dataset_snapshot", "is_repo_id"]
+
+_REPO_ID = re.compile(
+    r"[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?/[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?"
+)
+
+
+class HubDatasetError(FileNotFoundError):
+    """The dataset repository could not be had (offline and not cached, unknown, unreachable)."""
+
+
+def is_repo_id(text: str) -> bool:
+    """`ORG/NAME` as the Hub spells repository ids (and not a folder that exists here)."""
+    return bool(_REPO_ID.fullmatch(text)) and ".." not in text and not Path(text).exists()
+
+
+def _offline() -> bool:
+    return os.environ.get("HF_HUB_OFFLINE", "").strip().lower() in ("1", "true", "yes", "on")
+
+
+@cache
+def dataset_snapshot(repo_id: str, revision: str | None = None) -> Path:
+    """The local folder of the dataset repository `repo_id` (downloaded once, then read from the cache)."""
+    from huggingface_hub import snapshot_download
+    from huggingface_hub.errors import LocalEntryNotFoundError
+
+    offline = _offline()
+    try:
+        folder = snapshot_download(repo_id, repo_type="dataset", revision=revision, local_files_only=offline)
+    except LocalEntryNotFoundError:
+        if offline:
+            raise HubDatasetError(
+                f"{repo_id}: not in the Hugging Face cache and HF_HUB_OFFLINE is set; fetch it once online "
+                "(unset HF_HUB_OFFLINE) or point TALKDEM_DATA_DIR at a dataset folder"
+            ) from None
+        raise HubDatasetError(f"{repo_id}: the Hub could not be reached and the dataset is not cached") from None
+    except Exception as exc:  # repository not found, gated, HTTP errors: one line, not a traceback
+        raise HubDatasetError(
+            f"{repo_id}: cannot fetch the dataset from the Hub ({type(exc).__name__}: {exc})"
+        ) from None
+    return Path(folder)
