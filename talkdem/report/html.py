@@ -16,7 +16,7 @@ from talkdem.report.tables import Table
 __all__ = ["PAGE_STYLE", "render_report_html", "table_html"]
 
 PAGE_STYLE = """
-body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:2rem auto;max-width:1200px;
+body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:2rem auto;max-width:1500px;
   padding:0 1rem;color:#1f1f1f;line-height:1.45}
 h1{font-size:1.6rem}h2{font-size:1.2rem;margin-top:2.2rem;border-bottom:1px solid #ddd;padding-bottom:.2rem}
 .scroll{overflow-x:auto;margin:.6rem 0}
