@@ -8,6 +8,7 @@ legends sit outside the axes, and a bar of height zero is still drawn.
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,7 +16,7 @@ from typing import Any
 
 from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.report.public import unique_stems
-from talkdem.report.runs import ScoredRun
+from talkdem.report.runs import STRATEGY_LABELS, ScoredRun
 from talkdem.report.tables import PATTERN_CODES, PATTERN_LABELS
 
 __all__ = [
@@ -60,9 +61,13 @@ def _interval(run: ScoredRun, key: str) -> tuple[float, float] | None:
     return 100 * found[0], 100 * found[1]
 
 
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
 def _legend_label(run: ScoredRun) -> str:
     tag = " (reference plans, not ranked)" if run.is_reference else ""
-    label = run.label if not run.is_reference else run.model
+    label = _one_line(run.label if not run.is_reference else run.model)
     tasks = run.coverage.tasks
     return f"{label}{tag}: {tasks} task{'' if tasks == 1 else 's'}"
 
@@ -178,7 +183,8 @@ def retention_figure(runs: Sequence[ScoredRun]) -> Any:
     if any(r.is_reference for r in runs):
         note += "; reference plans omitted (100% by construction)"
     if undefined:
-        note += f"; omitted, no task solved under clean (retention undefined): {', '.join(r.label for r in undefined)}"
+        names = ", ".join(_one_line(r.label) for r in undefined)
+        note += f"; omitted, no task solved under clean (retention undefined): {names}"
     fig.suptitle(f"Retention per intensity level\n({note})", fontsize=9)
     return fig
 
@@ -205,8 +211,7 @@ def heatmap_figure(run: ScoredRun) -> Any:
             {f"{p}:{lv}": retention.get(f"{p}:{lv}", math.nan) for p in PATTERN_CONFIGS for lv in _LEVELS},
         ),
     )
-    cmap = plt.get_cmap("viridis").copy()
-    cmap.set_bad("#d9d9d9")
+    cmap = plt.get_cmap("viridis").with_extremes(bad="#d9d9d9")
     image = None
     for ax, (name, values) in zip(axes, panels, strict=True):
         grid = np.array([[_pct(values[f"{p}:{lv}"]) for lv in _LEVELS] for p in PATTERN_CONFIGS])
@@ -225,14 +230,20 @@ def heatmap_figure(run: ScoredRun) -> Any:
     fig.colorbar(image, ax=axes, shrink=0.85, label="%")
     clean = _pct(run.scores.success_rate["clean"])
     clean_text = "n/a" if math.isnan(clean) else f"{clean:.1f}%"
-    title = run.label if not run.is_reference else f"{run.model} (reference plans)"
+    title = _one_line(run.label) if not run.is_reference else f"{run.model} (reference plans)"
     fig.suptitle(f"{title}: clean SR {clean_text}; {run.coverage.describe()}", fontsize=9)
     return fig
 
 
+def _strategy_order(name: str) -> tuple[int, str]:
+    order = list(STRATEGY_LABELS.values())
+    return (order.index(name) if name in order else len(order), name)
+
+
 def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
-    """Radar charts: one per model, SR (%) on clean and each pattern, one polygon per strategy. Only planner
-    runs with a non-zero value take part; the returned note says which were left out, and why."""
+    """Radar charts: one per model run under two or more strategies, SR (%) on clean and each pattern, one
+    polygon per strategy. Only planner runs with a non-zero value take part; the returned note says which
+    runs were left out, and why (an empty figure says so in words)."""
     plt = _pyplot()
     planner_runs = [r for r in runs if r.from_planner]
     zero = [r for r in planner_runs if not any(_pct(r.scores.success_rate[k]) > 0 for k in ("clean", *PATTERN_CONFIGS))]
@@ -244,15 +255,24 @@ def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
             "plans) are not strategies"
         )
     if zero:
-        notes.append("left out, every success rate 0: " + ", ".join(r.label for r in zero))
-    note = "; ".join(notes)
+        notes.append("left out, every success rate 0: " + ", ".join(_one_line(r.label) for r in zero))
     models: dict[str, list[ScoredRun]] = {}
     for run in kept:
         models.setdefault(run.model, []).append(run)
+    single = [m for m, group in models.items() if len({r.strategy for r in group}) < 2]
+    if single:
+        notes.append("one strategy only, nothing to compare: " + ", ".join(_one_line(m) for m in single))
+        models = {m: g for m, g in models.items() if m not in single}
+    note = "; ".join(notes)
     if not models:
         fig, ax = plt.subplots(figsize=(7.0, 2.4))
         ax.axis("off")
-        reason = "no planner runs" if not planner_runs else "every planner run scored 0 on every condition"
+        if not planner_runs:
+            reason = "no planner runs"
+        elif not kept:
+            reason = "every planner run scored 0 on every condition"
+        else:
+            reason = "no model was run with two or more strategies"
         ax.text(0.5, 0.6, f"No strategy comparison to draw: {reason}.", ha="center", va="center", fontsize=11)
         ax.text(0.5, 0.3, note, ha="center", va="center", fontsize=8, wrap=True)
         return fig, f"Empty: {reason}. {note}".strip()
@@ -261,24 +281,31 @@ def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
     fig, axes = plt.subplots(
         1,
         len(models),
-        figsize=(4.4 * len(models), 5.0),
+        figsize=(max(6.0, 4.4 * len(models)), 5.4),
         subplot_kw={"projection": "polar"},
         squeeze=False,
         layout="constrained",
     )
+    # One color per strategy across the charts, so a single legend serves them all.
+    palette = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    strategies = sorted({r.strategy for g in models.values() for r in g}, key=_strategy_order)
+    color = {name: palette[i % len(palette)] for i, name in enumerate(strategies)}
     for ax, (model, group) in zip(axes[0], models.items(), strict=True):
         for run in group:
             s = run.scores
             values = [_pct(s.success_rate["clean"]), *(_pct(s.success_rate[p]) for p in PATTERN_CONFIGS)]
             values = [0.0 if math.isnan(v) else v for v in values]
-            ax.plot([*angles, angles[0]], [*values, values[0]], linewidth=1.5, label=f"{run.strategy}")
-            ax.fill([*angles, angles[0]], [*values, values[0]], alpha=0.08)
+            closed = [*values, values[0]]
+            ax.plot([*angles, angles[0]], closed, linewidth=1.5, color=color[run.strategy], label=run.strategy)
+            ax.fill([*angles, angles[0]], closed, alpha=0.08, color=color[run.strategy])
         ax.set_xticks(angles, axes_labels)
         ax.set_ylim(0, 100)
-        ax.set_title(model, fontsize=9)
-        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.08), ncols=3, frameon=False)
+        ax.set_rlabel_position(360 / len(axes_labels) / 2)  # between two axes, clear of their labels
+        ax.set_title(_one_line(model), fontsize=9)
+    handles = [plt.Line2D([], [], color=color[name], linewidth=1.5, label=name) for name in strategies]
+    fig.legend(handles=handles, loc="outside lower center", ncols=min(6, len(handles)), fontsize=8, frameon=False)
     if note:
-        fig.text(0.5, 0.005, note, ha="center", va="bottom", fontsize=7, wrap=True)
+        fig.suptitle(textwrap.fill(note, width=int(20 * fig.get_figwidth())), fontsize=7)
     return fig, note
 
 

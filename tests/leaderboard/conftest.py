@@ -20,10 +20,10 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent.parent / "metrics"))
 sys.path.insert(0, str(Path(__file__).parent))
 
-from metrics_helpers import BOOK, COOL, HEAT, LAMP, failing, reference, write_run  # noqa: E402
+from metrics_helpers import BOOK, COOL, HEAT, LAMP, failing, reference, write_run
 
-from talkdem.cli import main  # noqa: E402
-from talkdem.instructions import load_instructions  # noqa: E402
+from talkdem.cli import main
+from talkdem.instructions import load_instructions
 
 TASKS = (BOOK, LAMP, HEAT, COOL)
 MODEL_PATH = "/home/someone/models/SmolLM2-135M-Instruct.Q4_1.gguf"

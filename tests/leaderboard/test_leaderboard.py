@@ -100,7 +100,7 @@ def test_model_dtype_and_bad_results_files(tmp_path: Path, capsys: pytest.Captur
     assert model_dtype("org/model", {"dtype": "bfloat16"}) == "bfloat16"
     assert model_dtype("org/model", {}) == "unknown"
     (tmp_path / "old.json").write_text(json.dumps({"schema": "talkdem-results/1"}))
-    with pytest.raises(ValueError, match="old.json: not a talkdem-results/2"):
+    with pytest.raises(ValueError, match=r"old\.json: not a talkdem-results/2"):
         read_results(tmp_path)
     assert main(["leaderboard", "--from-results", str(tmp_path), "--out", str(tmp_path / "b")]) == 2
     assert "not a talkdem-results/2 results file" in capsys.readouterr().err
@@ -110,4 +110,6 @@ def test_model_dtype_and_bad_results_files(tmp_path: Path, capsys: pytest.Captur
 def test_run_ids_tell_apart_runs_with_the_same_label(board_runs: dict[str, Path]) -> None:
     a, twin = score_runs([board_runs["planner A"], board_runs["planner_A"]], bootstrap=0)
     assert results_record(a)["run_id"] != results_record(twin)["run_id"]
-    assert results_record(a)["run_id"] == results_record(score_runs([board_runs["planner A"]], bootstrap=0)[0])["run_id"]
+    assert (
+        results_record(a)["run_id"] == results_record(score_runs([board_runs["planner A"]], bootstrap=0)[0])["run_id"]
+    )
