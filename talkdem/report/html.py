@@ -20,13 +20,13 @@ body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:2re
   padding:0 1rem;color:#1f1f1f;line-height:1.45}
 h1{font-size:1.6rem}h2{font-size:1.2rem;margin-top:2.2rem;border-bottom:1px solid #ddd;padding-bottom:.2rem}
 .scroll{overflow-x:auto;margin:.6rem 0}
-table{border-collapse:collapse;font-size:.88rem}
+table{border-collapse:collapse;font-size:.88rem;min-width:32rem}
 th,td{padding:.3rem .6rem;border-bottom:1px solid #e2e2e2;vertical-align:top;white-space:nowrap}
 th{background:#f4f4f4;text-align:left;font-weight:600}
 td.num,th.num{text-align:right;font-variant-numeric:tabular-nums}
 caption{caption-side:bottom;text-align:left;color:#555;padding-top:.5rem;font-size:.82rem;white-space:normal}
 .ci{display:block;color:#666;font-size:.74rem}
-figure{margin:1.4rem 0}figure img{max-width:100%;height:auto;display:block;border:1px solid #eee}
+figure{margin:1.4rem 0}figure img{max-width:100%;height:auto;display:block;border:1px solid #eee;box-sizing:border-box}
 figcaption{color:#555;font-size:.85rem;margin-top:.3rem}
 code{font-size:.85em}
 """
