@@ -38,7 +38,8 @@ def check_space_folder(folder: Path) -> None:
 
 
 def _plan(folder: Path, patterns: tuple[str, ...]) -> list[str]:
-    from huggingface_hub.utils import filter_repo_objects
+    # The hub's own pattern matcher, so the plan is what `upload_folder` sends (re-exported, not in `__all__`).
+    from huggingface_hub.utils import filter_repo_objects  # type: ignore[attr-defined]
 
     files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
     return list(filter_repo_objects(files, allow_patterns=list(patterns)))
