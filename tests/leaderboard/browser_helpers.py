@@ -26,7 +26,8 @@ _FLAGS = (
 _MEASURE = """
 window.addEventListener('load', function(){
   function box(e){var r = e.getBoundingClientRect(); return {x: r.x, y: r.y, w: r.width, h: r.height};}
-  var out = {tables: [], images: [], blocks: [], width: document.documentElement.scrollWidth};
+  var out = {tables: [], images: [], blocks: [], width: document.documentElement.scrollWidth,
+             viewport: window.innerWidth};
   document.querySelectorAll('table').forEach(function(t){
     var rows = [];
     t.querySelectorAll('tbody tr').forEach(function(tr){
@@ -73,14 +74,15 @@ def _run(args: list[str], profile: Path) -> str:
 
 
 def measure(page: Path, scratch: Path) -> dict[str, Any]:
-    """Lay `page` out at 1400 px wide and return the measurements (tables, images, blocks)."""
+    """Lay `page` out at 1500 px wide (the report's maximum width) and return the measurements (tables,
+    images, blocks, the page's scroll width and the viewport's width)."""
     scratch.mkdir(parents=True, exist_ok=True)
     copy = scratch / f"measured-{page.name}"
     text = page.read_text(encoding="utf-8")
     assert "</body>" in text
     copy.write_text(text.replace("</body>", f"<script>{_MEASURE}</script></body>"), encoding="utf-8")
     dom = _run(
-        ["--window-size=1400,1000", "--virtual-time-budget=10000", "--dump-dom", copy.as_uri()],
+        ["--window-size=1500,1000", "--virtual-time-budget=10000", "--dump-dom", copy.as_uri()],
         scratch / "profile-dom",
     )
     found = re.search(r'<pre id="measurements">(.*?)</pre>', dom, re.S)

@@ -76,6 +76,7 @@ def test_no_empty_cell_and_numbers_right_aligned(seen: dict[str, Any]) -> None:
 
 
 def test_nothing_overlaps_or_overflows(seen: dict[str, Any]) -> None:
+    assert seen["width"] <= seen["viewport"], "the page scrolls sideways (wide tables scroll in their own box)"
     for table in seen["tables"]:
         for row in table["rows"]:
             for cell in row:
