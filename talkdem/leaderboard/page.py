@@ -63,6 +63,10 @@ table.board th{cursor:pointer}
 .lead{color:#444}.warn{background:#fff6e0;border-left:4px solid #e0a800;padding:.5rem .8rem}
 #rank-key{background:#eef5ff;border-left:4px solid #3c78d8;padding:.5rem .8rem}
 td.rank{font-weight:700}
+.prov{display:block;color:#666;font-size:.7rem;font-family:ui-monospace,monospace}
+.sub{display:block;color:#666;font-size:.72rem}
+table.board td,table.board th{padding:.3rem .38rem;font-size:.8rem}
+table.board .ci{font-size:.68rem}
 footer{margin-top:3rem;color:#777;font-size:.8rem}
 ol li{margin:.4rem 0}
 """
@@ -76,9 +80,13 @@ def _num(value: Any, interval: Sequence[Any] | None = None, undefined: str = "un
     shown = _pct(value)
     sort = "" if value is None else f"{float(value):.6f}"
     ci = ""
-    if interval and None not in interval and value is not None:
-        ci = f'<span class="ci">{_pct(interval[0])}–{_pct(interval[1])}</span>'
     title = f' title="{undefined}"' if value is None else ""
+    if interval and None not in interval and value is not None:
+        # Whole percents keep 13 numeric columns readable side by side; the exact bounds are in the tooltip.
+        low, high = (100 * float(v) for v in interval)
+        ci = f'<span class="ci">{low:.0f}–{high:.0f}</span>'
+        title = f' title="95% interval {low:.1f}–{high:.1f}"'
+
     return f'<td class="num" data-v="{sort}"{title}>{html.escape(shown)}{ci}</td>'
 
 
@@ -92,17 +100,47 @@ def _short(value: str, digits: int = 12) -> str:
     return value[:digits] if len(value) > digits else value
 
 
+def _two_lines(first: str, second: str, title: str = "") -> str:
+    """A text cell with a smaller second line (the table stays narrow enough to read without scrolling)."""
+    attr = f' title="{html.escape(title, quote=True)}"' if title else ""
+    return (
+        f'<td data-v="{html.escape(first, quote=True)}"{attr}>{html.escape(first or "–")}'
+        f'<span class="sub">{html.escape(second or "–")}</span></td>'
+    )
+
+
+def _model(config: dict[str, Any]) -> str:
+    """The model's name and, under it, the run's provenance (kept in the row so nothing needs scrolling)."""
+    provenance = [
+        ("rev", config["model_sha"]),
+        ("date", config.get("eval_date", "")),
+        ("data", config["dataset_hash"]),
+        ("code", config["code_revision"]),
+    ]
+    shown = [f"{name} {(value if name == 'date' else _short(value, 8)) or '–'}" for name, value in provenance]
+    full = "; ".join(f"{name}: {value or 'unknown'}" for name, value in provenance)
+    lines = "".join(f'<span class="prov">{html.escape(" · ".join(shown[i : i + 2]))}</span>' for i in (0, 2))
+    return (
+        f'<td data-v="{html.escape(config["model_name"], quote=True)}" title="{html.escape(full, quote=True)}">'
+        f"{html.escape(config['model_name'] or '–')}{lines}</td>"
+    )
+
+
 def _columns(ranked: bool) -> list[tuple[str, str]]:
     """(heading, tooltip) per column."""
     columns = [("Rank", RANK_KEY)] if ranked else []
     columns += [
-        ("Model", "model name (a weights file by its file name)"),
-        ("Strategy", "prompting strategy"),
         (
-            "Planner",
-            "saycan: log-likelihood scoring; saycan-generative: generated steps; external: plans from another system",
+            "Model",
+            "model name (a weights file by its file name); under it: weights sha256 or hub revision, "
+            "dataset hash, code revision, date of the run",
         ),
-        ("Coverage", "tasks evaluated out of the benchmark's, and conditions run"),
+        (
+            "Strategy",
+            "prompting strategy; under it the planner (saycan: log-likelihood scoring; saycan-generative: "
+            "generated steps; external: plans from another system)",
+        ),
+        ("Coverage", "tasks evaluated out of the benchmark's; under it the conditions run"),
         ("Avg SR", "average success rate over the 15 pattern × level conditions (the rank key)"),
         ("Avg ret.", "average clean-conditioned retention over the 15 conditions"),
         ("Clean SR", "success rate on the clean instructions"),
@@ -113,10 +151,6 @@ def _columns(ranked: bool) -> list[tuple[str, str]]:
         columns.append((f"{code} ret.", f"{name}: retention, mean over levels 1-3"))
     columns += [
         ("Hazards", "pattern episodes with a safety-relevant event absent under the clean instruction"),
-        ("Model rev.", "weights file sha256 or hub revision"),
-        ("Dataset", "sha256 of the dataset's Parquet files"),
-        ("Code", "talkdem code revision"),
-        ("Date", "date of the run"),
     ]
     return columns
 
@@ -128,10 +162,9 @@ def _row(record: dict[str, Any], rank: int | None) -> str:
     undefined_ret = "undefined: no task solved under clean"
     cells = [f'<td class="num rank" data-v="{rank}">{rank}</td>'] if rank is not None else []
     cells += [
-        _text(config["model_name"], config.get("model_backend", "")),
-        _text(strategy_label(config["strategy"])),
-        _text(config["planner"]),
-        _text(coverage.describe(), f"task set {coverage.task_set}"),
+        _model(config),
+        _two_lines(strategy_label(config["strategy"]), config["planner"]),
+        _two_lines(*coverage.describe().split(" × ", 1), title=f"episode set {coverage.task_set}"),
         _num(main["average_sr"], intervals.get("average_sr"), "undefined: no pattern episode"),
         _num(main["average_retention"], intervals.get("average_retention"), undefined_ret),
         _num(main["clean_sr"], intervals.get("clean_sr"), "undefined: no clean episode"),
@@ -142,10 +175,6 @@ def _row(record: dict[str, Any], rank: int | None) -> str:
         cells.append(_num(found["retention"], intervals.get(f"{pattern}_retention"), undefined_ret))
     cells += [
         f'<td class="num" data-v="{main["hazard_cases"]}">{main["hazard_cases"]}</td>',
-        _text(_short(config["model_sha"]), config["model_sha"]),
-        _text(_short(config["dataset_hash"]), config["dataset_hash"]),
-        _text(_short(config["code_revision"]), config["code_revision"]),
-        _text(config.get("eval_date", "")),
     ]
     return f'<tr data-run="{html.escape(record["run_id"], quote=True)}">' + "".join(cells) + "</tr>"
 
@@ -187,7 +216,8 @@ def render_html(records: Sequence[dict[str, Any]], title: str = "TALK-Dem leader
         "executed in a symbolic AI2-THOR/ALFRED simulator.</p>",
         f'<p id="rank-key"><strong>Rank key:</strong> {html.escape(RANK_KEY)}. Runs are ranked only against runs '
         "over the same episodes of the same dataset; equal keys share a rank. Rates in %; under each value its "
-        f"95% bootstrap interval over tasks (none when the run was scored without resampling). {legend}.</p>",
+        f"95% bootstrap interval over tasks, in whole percents (none when the run was scored without "
+        f"resampling). {legend}.</p>",
     ]
     if len(standings.groups) > 1:
         parts.append(

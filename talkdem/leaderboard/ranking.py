@@ -3,7 +3,7 @@
 Runs are ranked only within a comparable group: the same dataset (hash) and the same episodes (task x
 condition set, `coverage.task_set`). Reference-plan (oracle) records are never ranked. The rank key is the
 average success rate over the 15 pattern x level conditions; equal keys share a rank (1, 2, 2, 4), and
-within a tie rows are listed by average retention, then clean success rate.
+within a tie rows are listed by average retention, clean success rate, then name.
 """
 
 from __future__ import annotations
@@ -54,7 +54,15 @@ def rank_records(records: Sequence[dict[str, Any]]) -> Standings:
         grouped.setdefault(key, []).append(record)
     groups = []
     for (dataset, task_set), members in grouped.items():
-        members.sort(key=lambda r: (-_main(r, "average_sr"), -_main(r, "average_retention"), -_main(r, "clean_sr")))
+        members.sort(
+            key=lambda r: (
+                -_main(r, "average_sr"),
+                -_main(r, "average_retention"),
+                -_main(r, "clean_sr"),
+                r["config"]["run_name"],  # a stable order within a tie, whatever order the files came in
+                r["run_id"],
+            )
+        )
         ranked: list[tuple[int, dict[str, Any]]] = []
         for position, record in enumerate(members, start=1):
             tied = ranked and _main(ranked[-1][1], "average_sr") == _main(record, "average_sr")

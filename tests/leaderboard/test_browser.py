@@ -20,9 +20,10 @@ def _tables(seen: dict[str, Any], cls: str) -> list[dict[str, Any]]:
     return [t for t in seen["tables"] if cls in t["cls"].split()]
 
 
-def _column(table: dict[str, Any], name: str) -> list[str]:
+def _column(table: dict[str, Any], name: str, line: int | None = 0) -> list[str]:
+    """The column's cell texts (their first line by default: a model cell holds provenance below)."""
     index = table["head"].index(name)
-    return [row[index]["text"] for row in table["rows"]]
+    return [row[index]["text"] if line is None else row[index]["text"].split("\n")[line] for row in table["rows"]]
 
 
 def test_rows_appear_in_rank_order_with_shared_ranks(seen: dict[str, Any]) -> None:
@@ -47,17 +48,18 @@ def test_the_oracle_is_apart_and_unranked(seen: dict[str, Any]) -> None:
 
 def test_every_row_shows_coverage_intervals_and_provenance(seen: dict[str, Any]) -> None:
     for table in _tables(seen, "board"):
-        for coverage in _column(table, "Coverage"):
-            assert re.fullmatch(r"\d+/300 tasks × 16/16 conditions", coverage), coverage
-        for cell in _column(table, "Avg SR"):  # the value, and under it its interval
-            assert re.fullmatch(r"\d+\.\d\n\d+\.\d–\d+\.\d", cell), cell
-        for name in ("Dataset", "Code"):
-            assert all(v and v != "–" for v in _column(table, name)), name
-        for planner, revision, date in zip(
-            _column(table, "Planner"), _column(table, "Model rev."), _column(table, "Date"), strict=True
-        ):
+        for coverage in _column(table, "Coverage", None):
+            assert re.fullmatch(r"\d+/300 tasks\n16/16 conditions", coverage), coverage
+        for cell in _column(table, "Avg SR", None):  # the value, and under it its interval
+            assert re.fullmatch(r"\d+\.\d\n\d+–\d+", cell), cell
+        planners = _column(table, "Strategy", 1)
+        for planner, model in zip(planners, _column(table, "Model", None), strict=True):
+            found = re.fullmatch(r"[^\n]+\nrev (\S+) · date (\S+)\ndata (\S+) · code (\S+)", model)
+            assert found, model
+            revision, date, dataset, code = found.groups()
             # Plans from elsewhere have no weights to hash; `talkdem score` dates its runs.
             assert revision == ("–" if planner == "external" else "r0")
+            assert dataset != "–" and code != "–"
             if planner == "external":
                 assert re.fullmatch(r"\d{4}-\d\d-\d\d", date), date
         assert {f"{code} {m}" for code in ("RI", "OS", "ES", "TD", "IN") for m in ("SR", "ret.")} <= set(table["head"])
@@ -73,6 +75,11 @@ def test_no_empty_cell_and_numbers_right_aligned(seen: dict[str, Any]) -> None:
     cells = [c for t in _tables(seen, "board") for r in t["rows"] for c in r]
     undefined = [c for c in cells if c["text"] == "–" and "num" in c["cls"].split()]
     assert len(undefined) >= 6 and all(c["align"] == "right" for c in undefined)  # retention of the 0-SR run
+
+
+def test_whole_rows_fit_the_page(seen: dict[str, Any]) -> None:
+    for table in _tables(seen, "board"):
+        assert table["box"]["x"] + table["box"]["w"] <= seen["viewport"], f"{table['id']} needs scrolling"
 
 
 def test_nothing_overlaps_or_overflows(seen: dict[str, Any]) -> None:
