@@ -160,11 +160,12 @@ def _row(record: dict[str, Any], rank: int | None) -> str:
     intervals = record.get("intervals", {})
     coverage = Coverage.from_json(record["coverage"])
     undefined_ret = "undefined: no task solved under clean"
+    tasks, _, conditions = coverage.describe().partition(" × ")
     cells = [f'<td class="num rank" data-v="{rank}">{rank}</td>'] if rank is not None else []
     cells += [
         _model(config),
         _two_lines(strategy_label(config["strategy"]), config["planner"]),
-        _two_lines(*coverage.describe().split(" × ", 1), title=f"episode set {coverage.task_set}"),
+        _two_lines(tasks, conditions, title=f"episode set {coverage.task_set}"),
         _num(main["average_sr"], intervals.get("average_sr"), "undefined: no pattern episode"),
         _num(main["average_retention"], intervals.get("average_retention"), undefined_ret),
         _num(main["clean_sr"], intervals.get("clean_sr"), "undefined: no clean episode"),
