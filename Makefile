@@ -25,10 +25,15 @@ $(STAMP): pyproject.toml
 
 # The test suite also exercises the llama.cpp backends (in-process and its OpenAI-compatible server):
 # llama-cpp-python has no wheel on PyPI and compiles here (about 6 minutes on 2 cores, once per venv).
+# The browser tests render the leaderboard and the report in headless Chromium (Debian's package; CI runs as root).
+CHROMIUM := test -x /usr/bin/chromium || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y chromium)
+
 setup-test: $(TEST_STAMP)
+	$(CHROMIUM)
 
 $(TEST_STAMP): $(STAMP)
 	$(BIN)/python -m pip install --quiet "torch==2.13.0" -e ".[dev,llamacpp]"
+	$(CHROMIUM)
 	touch $(TEST_STAMP)
 
 demo: $(STAMP)

@@ -1,8 +1,9 @@
-"""`talkdem leaderboard`: results files in a stable schema and a static HTML ranking of runs."""
+"""`talkdem leaderboard`: results files (Hub template shape) and a static Space folder ranking the runs."""
 
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 from typing import Any
 
@@ -10,27 +11,57 @@ __all__ = ["register"]
 
 
 def register(subparsers: Any) -> None:
-    parser = subparsers.add_parser("leaderboard", help="results JSON per run and a static HTML leaderboard page")
-    parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="run directories to score")
-    parser.add_argument(
-        "--out", type=Path, default=Path("talkdem_leaderboard"), help="output folder (default: %(default)s)"
+    parser = subparsers.add_parser(
+        "leaderboard", help="results JSON per run and a static Space folder (README.md, index.html, results/)"
     )
-    parser.add_argument("--bootstrap", type=int, default=0, help="bootstrap resamples (not shown on the page)")
+    parser.add_argument("run_dirs", nargs="*", type=Path, metavar="RUN_DIR", help="run directories to score")
+    parser.add_argument(
+        "--out", type=Path, default=Path("talkdem_leaderboard"), help="Space folder to write (default: %(default)s)"
+    )
+    parser.add_argument("--from-results", type=Path, metavar="DIR", help="also show the results files under DIR")
+    parser.add_argument("--bootstrap", type=int, default=1000, help="bootstrap resamples for intervals (0: none)")
     parser.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    from talkdem.leaderboard import results_record, write_leaderboard
+    from talkdem.leaderboard import (
+        RANK_KEY,
+        rank_records,
+        read_results,
+        results_record,
+        write_leaderboard,
+        write_space,
+    )
     from talkdem.report import score_runs
 
-    runs = score_runs(args.run_dirs, bootstrap=args.bootstrap)
-    written = write_leaderboard(runs, args.out)
-    for run_ in runs:
-        main = results_record(run_)["results"]["talkdem"]
+    if not args.run_dirs and args.from_results is None:
+        raise ValueError("give run directories, --from-results DIR, or both")
+    runs = score_runs(args.run_dirs, bootstrap=args.bootstrap) if args.run_dirs else []
+    if args.from_results is not None:
+        if not args.from_results.is_dir():
+            raise FileNotFoundError(f"{args.from_results}: no such results folder")
+        fresh = [results_record(r) for r in runs]
+        ids = {r["run_id"] for r in fresh}
+        records = [r for r in read_results(args.from_results) if r["run_id"] not in ids] + fresh
+        written = write_space(records, args.out)
+    else:
+        written = write_leaderboard(runs, args.out)
+    # What the page shows: the runs given plus results already in the folder.
+    standings = rank_records(json.loads((args.out / "leaderboard.json").read_text(encoding="utf-8")))
+    print(f"rank key: {RANK_KEY}")
+    for i, group in enumerate(standings.groups, start=1):
         print(
-            f"{run_.label}: clean SR {main['clean_sr']}, average SR {main['average_sr']}, "
-            f"average retention {main['average_retention']}, hazard cases {main['hazard_cases']}"
+            f"group {i} ({group.coverage['tasks']}/{group.coverage['of_tasks']} tasks, "
+            f"{group.coverage['conditions']} conditions):"
         )
+        for rank, record in group.ranked:
+            main = record["results"]["talkdem"]
+            print(
+                f"  {rank}. {record['config']['run_name']}: average SR {main['average_sr']}, "
+                f"average retention {main['average_retention']}, clean SR {main['clean_sr']}"
+            )
+    for record in standings.reference:
+        print(f"  reference plans (not ranked): {record['config']['run_name']}")
     print(f"results: {args.out / 'results'}")
     print(f"page: {written[-1]}")
     return 0

@@ -10,7 +10,9 @@ __all__ = ["register"]
 
 
 def register(subparsers: Any) -> None:
-    parser = subparsers.add_parser("report", help="score run directories: paper tables (md/csv/json) and plots")
+    parser = subparsers.add_parser(
+        "report", help="score run directories: paper tables (md/csv/json), plots and one HTML page"
+    )
     parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="run directories to score")
     parser.add_argument("--out", type=Path, default=Path("talkdem_report"), help="output folder (default: %(default)s)")
     parser.add_argument("--reference-strategy", default="CARE", help="strategy the retention tests compare with")
@@ -27,6 +29,7 @@ def run(args: argparse.Namespace) -> int:
     for table in files.tables:
         print(table.to_markdown())
     print(f"report: {files.markdown}")
+    print(f"page: {files.html}")
     print(f"tables: {args.out / 'tables'} ({len(files.table_files)} files)")
     print(f"scores: {', '.join(str(p) for p in files.score_files)}")
     if files.plots:

@@ -1,11 +1,13 @@
-"""Paper-style reports of scored runs: tables (Markdown, CSV, JSON) and figures (PNG).
+"""Paper-style reports of scored runs: tables (Markdown, CSV, JSON), figures (PNG) and one HTML page.
 
 from talkdem.report import score_runs, write_report
 runs = score_runs([Path("runs/vanilla"), Path("runs/care")])
 written = write_report(runs, Path("report"))
 """
 
-from talkdem.report.runs import STRATEGY_LABELS, ScoredRun, score_runs, slug, strategy_label
+from talkdem.report.coverage import Coverage, benchmark_tasks, coverage_of
+from talkdem.report.public import is_machine_path, public_config, public_header, public_model, unique_stems
+from talkdem.report.runs import REFERENCE_STRATEGY, STRATEGY_LABELS, ScoredRun, score_runs, slug, strategy_label
 from talkdem.report.tables import (
     PATTERN_CODES,
     PATTERN_LABELS,
@@ -13,6 +15,8 @@ from talkdem.report.tables import (
     all_tables,
     error_table,
     hazard_table,
+    markdown_cell,
+    markdown_text,
     plan_length_table,
     retention_table,
     strategy_retention_table,
@@ -24,14 +28,24 @@ from talkdem.report.write import ReportFiles, write_report
 __all__ = [
     "PATTERN_CODES",
     "PATTERN_LABELS",
+    "REFERENCE_STRATEGY",
     "STRATEGY_LABELS",
+    "Coverage",
     "ReportFiles",
     "ScoredRun",
     "Table",
     "all_tables",
+    "benchmark_tasks",
+    "coverage_of",
     "error_table",
     "hazard_table",
+    "is_machine_path",
+    "markdown_cell",
+    "markdown_text",
     "plan_length_table",
+    "public_config",
+    "public_header",
+    "public_model",
     "retention_table",
     "score_runs",
     "slug",
@@ -39,5 +53,6 @@ __all__ = [
     "strategy_retention_table",
     "strategy_success_tables",
     "success_table",
+    "unique_stems",
     "write_report",
 ]

@@ -2,16 +2,18 @@
 
 from __future__ import annotations
 
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 from talkdem.metrics import Scores, compute_scores, results_from_run
 from talkdem.metrics.stats import BOOTSTRAP_SEED
+from talkdem.report.coverage import Coverage, coverage_of
+from talkdem.report.public import public_model, unique_stems
 from talkdem.runs import RunHeader, read_header
 
-__all__ = ["STRATEGY_LABELS", "ScoredRun", "score_runs", "slug", "strategy_label"]
+__all__ = ["REFERENCE_STRATEGY", "STRATEGY_LABELS", "ScoredRun", "score_runs", "slug", "strategy_label"]
 
 STRATEGY_LABELS = {"vanilla": "Vanilla", "ap": "AP", "cot": "CoT", "icl": "ICL", "tocc": "TOCC", "care": "CARE"}
 """The paper's names of the prompting strategies, in its column order."""
@@ -22,8 +24,12 @@ def strategy_label(name: str) -> str:
 
 
 def slug(text: str) -> str:
-    """A file-name-safe form of a run label."""
-    return re.sub(r"[^A-Za-z0-9._-]+", "_", text).strip("_") or "run"
+    """A file-name-safe form of one label (`unique_stems` keeps several labels apart)."""
+    return unique_stems([text])[0]
+
+
+REFERENCE_STRATEGY = "reference plans"
+"""The strategy name of the oracle run (`talkdem.runs.oracle`)."""
 
 
 @dataclass(frozen=True)
@@ -37,7 +43,7 @@ class ScoredRun:
 
     @property
     def model(self) -> str:
-        return self.header.model.get("name", "") or "unknown model"
+        return public_model(self.header.model)["name"] or "unknown model"
 
     @property
     def strategy(self) -> str:
@@ -48,6 +54,15 @@ class ScoredRun:
         """False for plans written elsewhere (`talkdem score`, the oracle): they have no prompting strategy."""
         return self.header.planner != "external"
 
+    @property
+    def is_reference(self) -> bool:
+        """The oracle: the tasks' reference plans, an upper bound shown apart and never ranked."""
+        return self.header.planner == "external" and self.header.strategy == REFERENCE_STRATEGY
+
+    @cached_property
+    def coverage(self) -> Coverage:
+        return coverage_of(self.scores)
+
 
 def score_runs(run_dirs: Sequence[Path], *, bootstrap: int = 1000, seed: int = BOOTSTRAP_SEED) -> list[ScoredRun]:
     """Score each run directory; labels (`model / strategy`) are made unique with a `#n` suffix."""
@@ -57,7 +72,8 @@ def score_runs(run_dirs: Sequence[Path], *, bootstrap: int = 1000, seed: int = B
     used: dict[str, int] = {}
     for run_dir in run_dirs:
         header = read_header(run_dir)
-        base = f"{header.model.get('name', '') or 'unknown model'} / {strategy_label(header.strategy)}"
+        # Labels are published (tables, legends, file names): a model file is named by its file name.
+        base = f"{public_model(header.model)['name'] or 'unknown model'} / {strategy_label(header.strategy)}"
         used[base] = used.get(base, 0) + 1
         label = base if used[base] == 1 else f"{base} #{used[base]}"
         scores = compute_scores(results_from_run(run_dir, run=label), bootstrap=bootstrap, seed=seed)

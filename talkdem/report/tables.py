@@ -11,6 +11,7 @@ import csv
 import io
 import json
 import math
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -36,6 +37,8 @@ __all__ = [
     "all_tables",
     "error_table",
     "hazard_table",
+    "markdown_cell",
+    "markdown_text",
     "plan_length_table",
     "retention_table",
     "strategy_retention_table",
@@ -67,6 +70,17 @@ _LEGEND = "RI: Referential Imprecision; OS: Object Substitution; ES: Empty Speec
 _STARS = "*p<0.05, **p<0.01, ***p<0.001."
 
 
+def markdown_text(text: str) -> str:
+    """One line of Markdown: line breaks become spaces, and text that a renderer would take for an HTML tag
+    (`<b`, `</`, `<!`) is shown instead (`p<0.05` stays as written)."""
+    return " ".join(re.sub(r"<(?=[A-Za-z/!?])", "&lt;", text).split())
+
+
+def markdown_cell(text: str) -> str:
+    """A table cell: `markdown_text` with `|` escaped, so a run named `a|b` stays one cell."""
+    return markdown_text(text).replace("|", "\\|")
+
+
 @dataclass(frozen=True)
 class Table:
     """A titled table of display strings; `name` is its file stem."""
@@ -79,11 +93,11 @@ class Table:
 
     def to_markdown(self) -> str:
         def line(cells: Sequence[str]) -> str:
-            return "| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |"
+            return "| " + " | ".join(markdown_cell(c) for c in cells) + " |"
 
         align = ["---"] + ["---:"] * (len(self.columns) - 1)
         body = [line(self.columns), "|" + "|".join(align) + "|", *(line(r) for r in self.rows)]
-        return f"### {self.title}\n\n" + "\n".join(body) + f"\n\n{self.caption}\n"
+        return f"### {markdown_text(self.title)}\n\n" + "\n".join(body) + f"\n\n{markdown_text(self.caption)}\n"
 
     def to_csv(self) -> str:
         buffer = io.StringIO()

@@ -1,4 +1,5 @@
-"""Write a report folder: every table as .md/.csv/.json, report.md with all of them, scores, figures."""
+"""Write a report folder: every table as .md/.csv/.json, report.md and report.html with all of them,
+scores, figures. Published files name runs by label and run-directory name, never by machine path."""
 
 from __future__ import annotations
 
@@ -7,8 +8,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from talkdem.report.runs import ScoredRun, slug
-from talkdem.report.tables import Table, all_tables
+from talkdem.report.public import public_header, unique_stems
+from talkdem.report.runs import ScoredRun
+from talkdem.report.tables import Table, all_tables, markdown_text
 
 __all__ = ["ReportFiles", "write_report"]
 
@@ -20,15 +22,28 @@ class ReportFiles:
     folder: Path
     tables: list[Table] = field(default_factory=list)
     markdown: Path | None = None
+    html: Path | None = None
     table_files: list[Path] = field(default_factory=list)
     score_files: list[Path] = field(default_factory=list)
     plots: list[Path] = field(default_factory=list)
 
 
+def _runs_markdown(runs: Sequence[ScoredRun]) -> str:
+    lines = []
+    for run in runs:
+        role = " (reference plans, not ranked)" if run.is_reference else ""
+        lines.append(
+            f"- {markdown_text(run.label)}{role}: run directory `{markdown_text(run.run_dir.name)}`, "
+            f"{run.scores.n_episodes} episodes, {run.coverage.describe()}"
+        )
+    return "\n".join(lines)
+
+
 def write_report(
     runs: Sequence[ScoredRun], out: Path, *, reference_strategy: str = "CARE", plots: bool = True
 ) -> ReportFiles:
-    """Write `out/report.md`, `out/tables/<name>.{md,csv,json}`, `out/scores/<run>.json`, `out/plots/*.png`."""
+    """Write `out/report.md`, `out/report.html` (self-contained, figures embedded),
+    `out/tables/<name>.{md,csv,json}`, `out/scores/<run>.json` and `out/plots/*.png`."""
     files = ReportFiles(out, all_tables(runs, reference_strategy))
     (out / "tables").mkdir(parents=True, exist_ok=True)
     (out / "scores").mkdir(parents=True, exist_ok=True)
@@ -37,17 +52,39 @@ def write_report(
             path = out / "tables" / f"{table.name}{suffix}"
             path.write_text(text, encoding="utf-8")
             files.table_files.append(path)
-    files.markdown = out / "report.md"
-    runs_list = "\n".join(f"- {r.label}: `{r.run_dir}` ({r.scores.n_episodes} episodes)" for r in runs)
-    body = "\n".join(t.to_markdown() for t in files.tables)
-    files.markdown.write_text(f"# TALK-Dem report\n\nRuns:\n{runs_list}\n\n{body}", encoding="utf-8")
-    for run in runs:
-        path = out / "scores" / f"{slug(run.label)}.json"
-        record = {"run": run.label, "run_dir": str(run.run_dir), "header": run.header.to_json(), **run.scores.to_json()}
+    for run, stem in zip(runs, unique_stems([r.label for r in runs]), strict=True):
+        path = out / "scores" / f"{stem}.json"
+        record = {
+            "run": run.label,
+            "run_dir": run.run_dir.name,
+            "reference": run.is_reference,
+            "coverage": run.coverage.to_json(),
+            "header": public_header(run.header),
+            **run.scores.to_json(),
+        }
         path.write_text(json.dumps(record, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
         files.score_files.append(path)
+    figures = []
     if plots:
         from talkdem.report.plots import write_plots
 
-        files.plots = write_plots(runs, out / "plots")
+        figures = write_plots(runs, out / "plots")
+        files.plots = [f.path for f in figures]
+    body = "\n".join(t.to_markdown() for t in files.tables)
+    links = "\n".join(
+        f"### {markdown_text(f.title)}\n\n![{markdown_text(f.title)}](plots/{f.path.name})\n\n"
+        f"{markdown_text(f.caption)}\n"
+        for f in figures
+    )
+    figures_md = f"\n## Figures\n\n{links}" if figures else ""
+    files.markdown = out / "report.md"
+    files.markdown.write_text(
+        f"# TALK-Dem report\n\nRuns:\n{_runs_markdown(runs)}\n\nThe same report with the figures inline: "
+        f"[report.html](report.html).\n\n{body}{figures_md}",
+        encoding="utf-8",
+    )
+    from talkdem.report.html import render_report_html
+
+    files.html = out / "report.html"
+    files.html.write_text(render_report_html(runs, files.tables, figures), encoding="utf-8")
     return files

@@ -87,14 +87,17 @@ def test_cli_report_writes_tables_scores_and_plots(run_dirs: list[Path], tmp_pat
 
 def test_cli_leaderboard_writes_results_and_a_static_page(run_dirs: list[Path], tmp_path: Path) -> None:
     out = tmp_path / "board"
-    assert main(["leaderboard", *map(str, run_dirs), "--out", str(out)]) == 0
-    record = json.loads((out / "results" / "tiny-model_CARE.json").read_text())
-    assert record["schema"] == "talkdem-results/1"
-    assert record["config"]["strategy"] == "care" and record["config"]["model_name"] == "tiny-model"
-    assert record["results"]["talkdem"]["average_sr"] == 100.0
+    assert main(["leaderboard", *map(str, run_dirs), "--out", str(out), "--bootstrap", "0"]) == 0
+    (path,) = [
+        p for p in (out / "results").rglob("*.json") if json.loads(p.read_text())["config"]["strategy"] == "care"
+    ]
+    record = json.loads(path.read_text())
+    assert record["schema"] == "talkdem-results/2" and path.parent.name == "tiny-model"
+    assert record["config"]["model_name"] == "tiny-model" and record["config"]["model_sha"] == "r0"
+    assert record["results"]["talkdem"]["average_sr"] == 1.0
     assert set(record["results"]) == {"talkdem", *(f"talkdem_{p}" for p in PATTERN_CONFIGS)}
     page = (out / "index.html").read_text()
-    assert page.index("care") < page.index("vanilla")  # ranked by average SR
+    assert page.index("CARE") < page.index("Vanilla")  # ranked by average SR
     assert "http" not in page and "<link" not in page and "src=" not in page  # no external assets
 
 

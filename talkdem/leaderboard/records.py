@@ -1,0 +1,122 @@
+"""One results record per run, in the shape Hub leaderboard Spaces ingest and with our versioned fields.
+
+The leaderboard template of the Hub reads `config.model_name`, `config.model_sha`, `config.model_dtype`
+and `results: {task: {metric: value}}`, values as fractions (it multiplies by 100 to display). We add:
+
+    {"schema": "talkdem-results/2", "run_id": ..., "reference": false,
+     "config": {... "model_backend", "model_file", "planner", "strategy", "prompt_version", "dataset_hash",
+                "code_revision", "eval_date", "created", "run_name"},
+     "coverage": {"tasks", "of_tasks", "conditions", "of_conditions", "tasks_per_condition", "task_set"},
+     "results": {"talkdem": {"clean_sr", "average_sr", "average_retention", "hazard_cases", "hazard_rate",
+                             "n_episodes", "n_tasks"},
+                 "talkdem_<pattern>": {"sr", "sr_change", "sr_change_p", "retention"}, ...},
+     "intervals": {"clean_sr": [low, high], "average_sr": ..., "<pattern>_sr": ..., "<pattern>_retention": ...}}
+
+Rates are fractions rounded to 1e-4; undefined values are null. No field holds a machine path: a model file
+is named by its file name (`model_name`, `model_file`) and its sha256 (`model_sha`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import re
+from typing import Any
+
+from talkdem.instructions import PATTERN_CONFIGS
+from talkdem.report.public import is_machine_path, public_model
+from talkdem.report.runs import ScoredRun
+
+__all__ = ["RESULTS_SCHEMA", "model_dtype", "results_record", "run_id"]
+
+RESULTS_SCHEMA = "talkdem-results/2"
+
+_QUANT = re.compile(r"[._-]((?:I?Q\d[A-Za-z0-9_]*)|BF16|F16|F32)\.gguf$", re.IGNORECASE)
+
+
+def _rate(value: float | None) -> float | None:
+    return None if value is None or math.isnan(value) else round(float(value), 4)
+
+
+def model_dtype(model_name: str, config: dict[str, Any]) -> str:
+    """The weights' precision as far as the run knows it: a GGUF quantisation from the file name
+    (`Q4_1`), a configured dtype, else `unknown`."""
+    found = _QUANT.search(model_name)
+    if found:
+        return found.group(1).upper()
+    configured = config.get("dtype") or config.get("torch_dtype")
+    return str(configured) if configured else "unknown"
+
+
+def run_id(run: ScoredRun) -> str:
+    """12 hex digits identifying a run by its header and its executed plans: runs differing only in name
+    punctuation get different ids; re-publishing the same run gives the same id (and file)."""
+    digest = hashlib.sha256(json.dumps(run.header.to_json(), sort_keys=True, default=str).encode())
+    for episode in sorted(run.scores.episodes, key=lambda e: (e.task_id, e.condition)):
+        digest.update(f"\n{episode.task_id}|{episode.condition}|{int(episode.success)}|".encode())
+        digest.update("\x1f".join(episode.plan).encode())
+    return digest.hexdigest()[:12]
+
+
+def _intervals(run: ScoredRun) -> dict[str, list[float | None]]:
+    keys = {"clean_sr": "sr/clean", "average_sr": "sr/average", "average_retention": "retention/average"}
+    for pattern in PATTERN_CONFIGS:
+        keys[f"{pattern}_sr"] = f"sr/{pattern}"
+        keys[f"{pattern}_retention"] = f"retention/{pattern}"
+    return {
+        name: [_rate(run.scores.intervals[key][0]), _rate(run.scores.intervals[key][1])]
+        for name, key in keys.items()
+        if key in run.scores.intervals
+    }
+
+
+def results_record(run: ScoredRun) -> dict[str, Any]:
+    """The results record of one scored run (see the module docstring)."""
+    s, header = run.scores, run.header
+    pattern_episodes = sum(1 for e in s.episodes if e.condition.pattern != "clean")
+    retention = s.retention or {}
+    results: dict[str, dict[str, Any]] = {
+        "talkdem": {
+            "clean_sr": _rate(s.success_rate["clean"]),
+            "average_sr": _rate(s.success_rate["average"]),
+            "average_retention": _rate(retention.get("average")),
+            "hazard_cases": s.hazards.total_cases,
+            "hazard_rate": _rate(s.hazards.total_cases / pattern_episodes) if pattern_episodes else None,
+            "n_episodes": s.n_episodes,
+            "n_tasks": s.n_tasks,
+        }
+    }
+    for pattern in PATTERN_CONFIGS:
+        p_value = s.sr_change_test[pattern].p_value
+        results[f"talkdem_{pattern}"] = {
+            "sr": _rate(s.success_rate[pattern]),
+            "sr_change": _rate(s.sr_change[pattern]),
+            "sr_change_p": None if math.isnan(p_value) else p_value,
+            "retention": _rate(retention.get(pattern)),
+        }
+    model = public_model(header.model)
+    raw_name = header.model.get("name", "")
+    return {
+        "schema": RESULTS_SCHEMA,
+        "run_id": run_id(run),
+        "reference": run.is_reference,
+        "config": {
+            "model_name": model["name"],
+            "model_sha": model["revision"],
+            "model_dtype": model_dtype(raw_name, header.config),
+            "model_backend": model["backend"],
+            "model_file": model["name"] if is_machine_path(raw_name) else "",
+            "planner": header.planner,
+            "strategy": header.strategy,
+            "prompt_version": header.prompt_version,
+            "dataset_hash": header.dataset_hash,
+            "code_revision": header.code_revision,
+            "eval_date": header.created[:10],
+            "created": header.created,
+            "run_name": run.label,
+        },
+        "coverage": run.coverage.to_json(),
+        "results": results,
+        "intervals": _intervals(run),
+    }

@@ -1,0 +1,115 @@
+"""The leaderboard folder built from real runs of different coverage: ranking, records, the Space."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from talkdem.cli import main
+from talkdem.instructions import PATTERN_CONFIGS
+from talkdem.leaderboard import RESULTS_SCHEMA, model_dtype, rank_records, read_results, results_record
+from talkdem.report import score_runs
+
+
+def _records(board: Path) -> list[dict[str, Any]]:
+    return json.loads((board / "leaderboard.json").read_text())
+
+
+def _by_name(board: Path) -> dict[str, dict[str, Any]]:
+    return {r["config"]["run_name"]: r for r in _records(board)}
+
+
+def test_only_runs_over_the_same_episodes_are_ranked_together(board: Path) -> None:
+    standings = rank_records(_records(board))
+    names = [[r["config"]["run_name"] for _, r in g.ranked] for g in standings.groups]
+    # 4-task external runs first (larger coverage), the 1-task planner runs apart; the oracle in neither.
+    assert sorted(names[0]) == ["planner A / external", "planner-B / external", "planner_A / external"]
+    assert sorted(names[1]) == ["SmolLM2-135M-Instruct.Q4_1.gguf / CARE", "SmolLM2-135M-Instruct.Q4_1.gguf / Vanilla"]
+    assert [r["config"]["run_name"] for r in standings.reference] == ["oracle / reference plans"]
+    assert standings.groups[0].coverage["tasks"] == 4 and standings.groups[1].coverage["tasks"] == 1
+
+
+def test_ties_share_a_rank_and_the_next_rank_skips(board: Path) -> None:
+    group = rank_records(_records(board)).groups[0]
+    ranks = {r["config"]["run_name"]: rank for rank, r in group.ranked}
+    assert ranks == {"planner A / external": 1, "planner_A / external": 1, "planner-B / external": 3}
+    smol = dict((r["config"]["strategy"], rank) for rank, r in rank_records(_records(board)).groups[1].ranked)
+    assert smol == {"care": 1, "vanilla": 2}
+
+
+def test_records_carry_the_hub_template_fields_and_ours(board: Path) -> None:
+    record = _by_name(board)["SmolLM2-135M-Instruct.Q4_1.gguf / CARE"]
+    assert record["schema"] == RESULTS_SCHEMA
+    config = record["config"]
+    assert config["model_name"] == "SmolLM2-135M-Instruct.Q4_1.gguf" == config["model_file"]
+    assert config["model_sha"] == "r0" and config["model_dtype"] == "Q4_1"
+    assert config["planner"] == "saycan" and config["strategy"] == "care"
+    assert {"dataset_hash", "code_revision", "prompt_version", "eval_date"} <= set(config)
+    # The template reads results[task][metric] as fractions and skips a task with a null metric.
+    results = record["results"]
+    assert set(results) == {"talkdem", *(f"talkdem_{p}" for p in PATTERN_CONFIGS)}
+    assert results["talkdem"]["clean_sr"] == 1.0
+    assert results["talkdem"]["average_sr"] == pytest.approx(1 / 3, abs=1e-4)  # level 1 of 3 solved
+    assert all(0 <= v["sr"] <= 1 for k, v in results.items() if k != "talkdem")
+    assert record["coverage"]["tasks_per_condition"]["clean"] == 1 and record["coverage"]["of_tasks"] == 300
+    low, high = record["intervals"]["average_sr"]
+    assert low <= results["talkdem"]["average_sr"] <= high
+
+
+def test_published_files_hold_no_machine_paths(board: Path, board_runs: dict[str, Path]) -> None:
+    for path in board.rglob("*"):
+        if path.is_file():
+            text = path.read_text(encoding="utf-8")
+            assert "/home/someone" not in text, path
+            assert str(board_runs["oracle"].parent) not in text, path  # run directories, plan files
+
+
+def test_runs_whose_names_differ_only_in_punctuation_get_their_own_files(board: Path) -> None:
+    files = sorted((board / "results").rglob("*.json"))
+    assert len(files) == 6  # one per run, none overwritten
+    assert {f.parent.name for f in files} >= {"planner_A", "oracle", "SmolLM2-135M-Instruct.Q4_1.gguf"}
+    assert {json.loads(f.read_text())["config"]["run_name"] for f in files} == set(_by_name(board))
+
+
+def test_the_folder_is_a_static_space(board: Path) -> None:
+    from huggingface_hub import SpaceCard
+
+    card = SpaceCard.load(board / "README.md")
+    assert card.data.sdk == "static" and card.data.app_file == "index.html"
+    assert card.data.colorFrom in {"red", "yellow", "green", "blue", "indigo", "purple", "pink", "gray"}
+    assert len(card.data.short_description) <= 60
+    assert (board / card.data.app_file).is_file()
+    assert "How to submit a run" in card.text and "| 1 | planner A |" in card.text
+    page = (board / "index.html").read_text()
+    assert "http" not in page and "<link" not in page and "src=" not in page  # no external asset
+    assert SpaceCard.load(board / "results" / "README.md").data.pretty_name
+
+
+def test_a_board_grows_and_can_be_rebuilt_from_its_results(board: Path, tmp_path: Path) -> None:
+    rebuilt = tmp_path / "rebuilt"
+    assert main(["leaderboard", "--from-results", str(board / "results"), "--out", str(rebuilt)]) == 0
+    assert _by_name(rebuilt) == _by_name(board)
+    assert (rebuilt / "index.html").read_text() == (board / "index.html").read_text()
+
+
+def test_model_dtype_and_bad_results_files(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert model_dtype("x/SmolLM2-135M-Instruct.Q4_1.gguf", {}) == "Q4_1"
+    assert model_dtype("org/model", {"dtype": "bfloat16"}) == "bfloat16"
+    assert model_dtype("org/model", {}) == "unknown"
+    (tmp_path / "old.json").write_text(json.dumps({"schema": "talkdem-results/1"}))
+    with pytest.raises(ValueError, match=r"old\.json: not a talkdem-results/2"):
+        read_results(tmp_path)
+    assert main(["leaderboard", "--from-results", str(tmp_path), "--out", str(tmp_path / "b")]) == 2
+    assert "not a talkdem-results/2 results file" in capsys.readouterr().err
+    assert main(["leaderboard", "--out", str(tmp_path / "b")]) == 2
+
+
+def test_run_ids_tell_apart_runs_with_the_same_label(board_runs: dict[str, Path]) -> None:
+    a, twin = score_runs([board_runs["planner A"], board_runs["planner_A"]], bootstrap=0)
+    assert results_record(a)["run_id"] != results_record(twin)["run_id"]
+    assert (
+        results_record(a)["run_id"] == results_record(score_runs([board_runs["planner A"]], bootstrap=0)[0])["run_id"]
+    )
