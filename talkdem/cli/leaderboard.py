@@ -7,6 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
+from talkdem.cli.arguments import non_negative_int
+
 __all__ = ["register"]
 
 
@@ -19,7 +21,9 @@ def register(subparsers: Any) -> None:
         "--out", type=Path, default=Path("talkdem_leaderboard"), help="Space folder to write (default: %(default)s)"
     )
     parser.add_argument("--from-results", type=Path, metavar="DIR", help="also show the results files under DIR")
-    parser.add_argument("--bootstrap", type=int, default=1000, help="bootstrap resamples for intervals (0: none)")
+    parser.add_argument(
+        "--bootstrap", type=non_negative_int, default=1000, help="bootstrap resamples for intervals (0: none)"
+    )
     parser.set_defaults(handler=run)
 
 

@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from talkdem.cli.arguments import non_negative_int
+
 __all__ = ["register"]
 
 
@@ -15,10 +17,26 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="run directories to score")
     parser.add_argument("--out", type=Path, default=Path("talkdem_report"), help="output folder (default: %(default)s)")
-    parser.add_argument("--reference-strategy", default="CARE", help="strategy the retention tests compare with")
-    parser.add_argument("--bootstrap", type=int, default=1000, help="bootstrap resamples for intervals (0: none)")
+    parser.add_argument(
+        "--reference-strategy",
+        default="CARE",
+        type=_strategy_label,
+        help="strategy the retention tests compare with (a strategy name or label, e.g. care or CARE)",
+    )
+    parser.add_argument(
+        "--bootstrap", type=non_negative_int, default=1000, help="bootstrap resamples for intervals (0: none)"
+    )
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
     parser.set_defaults(handler=run)
+
+
+def _strategy_label(text: str) -> str:
+    from talkdem.report.runs import STRATEGY_LABELS
+
+    for name, label in STRATEGY_LABELS.items():
+        if text.lower() in (name, label.lower()):
+            return label
+    raise argparse.ArgumentTypeError(f"unknown strategy '{text}' (known: {', '.join(STRATEGY_LABELS.values())})")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -37,6 +37,9 @@ def _fails(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
         (["demo", "--tasks", "0"], "--tasks: must be at least 1"),
         (["build", "--limit", "-1"], "--limit: must be at least 1"),
         (["push", "--repo", "not a repo", "--dry-run"], "is not a Hub repository id"),
+        (["report", "x", "--bootstrap", "-5"], "--bootstrap: must be 0 or more, got -5"),
+        (["leaderboard", "x", "--bootstrap", "-5"], "--bootstrap: must be 0 or more, got -5"),
+        (["report", "x", "--reference-strategy", "magic"], "unknown strategy 'magic'"),
         (["push", "--repo", "org/name/extra", "--dry-run"], "is not a Hub repository id"),
     ],
 )
