@@ -23,10 +23,11 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from builders.generation import CLEAN, GenerationRequest, Generator, derive_seed, get_generator
+from builders.generation import GenerationRequest, Generator, derive_seed, get_generator
 from builders.interpretation import interpretation
 from builders.verification import verify
 from talkdem.paths import data_dir, repo_root
+from talkdem.schema import CLEAN, LEVELS, MEMORY_BANK, PATTERN_CONFIGS, TASKS, data_files, features, split_name
 from talkdem.seeds import PddlParams
 from talkdem.tasks import Task, TaskSet, load_tasks
 
@@ -109,12 +110,6 @@ def pddl_row(params: PddlParams) -> dict[str, Any]:
 
 
 # --- one unit ------------------------------------------------------------------------------------------------
-def _patterns() -> tuple[str, ...]:
-    from talk_dem import PATTERNS
-
-    return tuple(PATTERNS)
-
-
 def _generate_verified(
     generator: Generator, requests: list[tuple[Task, str, int, str]], base_seed: int
 ) -> list[tuple[str, dict[str, Any], int]]:
@@ -144,7 +139,7 @@ def _generate_verified(
 def build_unit(generator: Generator, task: Task, base_seed: int) -> list[dict[str, Any]]:
     """The 16 rows of one task: its clean control, then each pattern at levels 1-3."""
     ((clean, clean_check, clean_seed),) = _generate_verified(generator, [(task, CLEAN, 0, "")], base_seed)
-    variants = [(task, p, lvl, clean) for p in _patterns() for lvl in (1, 2, 3)]
+    variants = [(task, p, lvl, clean) for p in PATTERN_CONFIGS for lvl in LEVELS]
     generated = [(CLEAN, 0, clean, clean_check, clean_seed)] + [
         (p, lvl, text, check, seed)
         for (_, p, lvl, _), (text, check, seed) in zip(
@@ -303,18 +298,22 @@ def write_dataset(
     units: dict[str, list[dict[str, Any]]],
     build_info: dict[str, Any],
 ) -> tuple[list[Path], dict[str, Any]]:
-    import talk_dem
     from builders.card import render_card
 
     bench_rows = [row for task in benchmark for row in units[f"benchmark:{task.task_id}"]]
+    instruction_features = features("instruction")
     written = []
-    for pattern in talk_dem.PATTERNS:
-        for level in talk_dem.LEVELS:
-            rows = [r for r in bench_rows if r["pattern"] == pattern and r["level"] == level]
-            path = folder / pattern / f"{talk_dem.split_name(level)}.parquet"
-            written.append(_write_parquet(rows, talk_dem.INSTRUCTION_FEATURES, path))
+    # One file per split, at the path the schema declares (the card and the loader read the same layout).
+    for config, condition_rows in [
+        (CLEAN, {"test": [r for r in bench_rows if r["pattern"] == CLEAN]}),
+        *(
+            (p, {split_name(lvl): [r for r in bench_rows if (r["pattern"], r["level"]) == (p, lvl)] for lvl in LEVELS})
+            for p in PATTERN_CONFIGS
+        ),
+    ]:
+        for split, (relative,) in data_files(config).items():
+            written.append(_write_parquet(condition_rows[split], instruction_features, folder / relative))
     clean_rows = [r for r in bench_rows if r["pattern"] == CLEAN]
-    written.append(_write_parquet(clean_rows, talk_dem.INSTRUCTION_FEATURES, folder / CLEAN / "test.parquet"))
 
     tasks_by_id = {t.task_id: t for t in memory}
     memory_rows = []
@@ -328,11 +327,12 @@ def write_dataset(
                     "reference_plan": list(spec.reference_plan),
                 }
             )
-    written.append(_write_parquet(memory_rows, talk_dem.MEMORY_BANK_FEATURES, folder / "memory_bank" / "train.parquet"))
+    ((memory_file,),) = data_files(MEMORY_BANK).values()
+    written.append(_write_parquet(memory_rows, features("memory_bank"), folder / memory_file))
+    task_files = data_files(TASKS)
     for name, tasks in (("benchmark", benchmark), ("memory", memory)):
-        written.append(
-            _write_parquet([_task_row(t) for t in tasks], talk_dem.TASK_FEATURES, folder / "tasks" / f"{name}.parquet")
-        )
+        (relative,) = task_files[name]
+        written.append(_write_parquet([_task_row(t) for t in tasks], features("task"), folder / relative))
 
     stats = {
         "build": build_info,

@@ -10,45 +10,21 @@ import json
 from pathlib import Path
 from typing import Any
 
+from talkdem.schema import ALL, CLEAN, MEMORY_BANK, PATTERN_CONFIGS, PATTERNS, TASKS, data_files
+
 __all__ = ["configs_yaml", "markers_table", "render_card"]
 
 
 def configs_yaml() -> str:
-    import talk_dem
-
+    """The card's `configs` block, from the layout `talkdem.schema` declares (clean is the default config)."""
     lines = ["configs:"]
-    for pattern in talk_dem.PATTERNS:
-        lines += [f"- config_name: {pattern}", "  data_files:"]
-        for level in talk_dem.LEVELS:
-            split = talk_dem.split_name(level)
-            lines += [f"  - split: {split}", f"    path: {pattern}/{split}.parquet"]
-    lines += [
-        "- config_name: clean",
-        "  default: true",
-        "  data_files:",
-        "  - split: test",
-        "    path: clean/test.parquet",
-        "- config_name: all",
-        "  data_files:",
-        "  - split: test",
-        "    path:",
-        "    - clean/test.parquet",
-        *(
-            f"    - {pattern}/{talk_dem.split_name(level)}.parquet"
-            for pattern in talk_dem.PATTERNS
-            for level in talk_dem.LEVELS
-        ),
-        "- config_name: memory_bank",
-        "  data_files:",
-        "  - split: train",
-        "    path: memory_bank/train.parquet",
-        "- config_name: tasks",
-        "  data_files:",
-        "  - split: benchmark",
-        "    path: tasks/benchmark.parquet",
-        "  - split: memory",
-        "    path: tasks/memory.parquet",
-    ]
+    for config in (*PATTERN_CONFIGS, CLEAN, ALL, MEMORY_BANK, TASKS):
+        lines += [f"- config_name: {config}"] + (["  default: true"] if config == CLEAN else []) + ["  data_files:"]
+        for split, paths in data_files(config).items():
+            if len(paths) == 1:
+                lines += [f"  - split: {split}", f"    path: {paths[0]}"]
+            else:
+                lines += [f"  - split: {split}", "    path:", *(f"    - {path}" for path in paths)]
     return "\n".join(lines)
 
 
@@ -70,10 +46,8 @@ def markers_table(markers: dict[str, Any]) -> str:
 
 
 def _levels_section() -> str:
-    import talk_dem
-
     out = []
-    for pattern in talk_dem.PATTERNS.values():
+    for pattern in PATTERNS.values():
         out.append(f"**{pattern.name}** (`{pattern.config}`, {pattern.abbreviation}): {pattern.definition}\n")
         for level, meaning in pattern.levels.items():
             out.append(f"- Level {level}: {meaning}")

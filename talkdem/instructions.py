@@ -14,56 +14,16 @@ from pathlib import Path
 from typing import Any
 
 from talkdem.paths import data_dir
+from talkdem.schema import CLEAN, PATTERN_CONFIGS, Condition
 
 __all__ = [
-    "CLEAN",
-    "PATTERN_CONFIGS",
-    "Condition",
     "Instruction",
     "MemoryItem",
     "dataset_configs",
     "dataset_hash",
     "load_instructions",
     "load_memory_bank",
-    "parse_instruction_id",
 ]
-
-CLEAN = "clean"
-PATTERN_CONFIGS = ("referential_imprecision", "object_substitution", "empty_speech", "topic_drift", "intrusion")
-
-
-@dataclass(frozen=True, order=True)
-class Condition:
-    """A pattern at an intensity level, or the clean control (`clean`, level 0)."""
-
-    pattern: str
-    level: int = 0
-
-    def __str__(self) -> str:
-        return self.pattern if self.pattern == CLEAN else f"{self.pattern}:{self.level}"
-
-    @classmethod
-    def parse(cls, text: str) -> Condition:
-        """`clean`, `intrusion:3`, or `intrusion` (all three levels are expanded by the caller)."""
-        name, _, level = text.strip().partition(":")
-        if name != CLEAN and name not in PATTERN_CONFIGS:
-            raise ValueError(f"unknown condition '{text}': expected clean or one of {', '.join(PATTERN_CONFIGS)}")
-        if name == CLEAN:
-            return cls(CLEAN, 0)
-        if level not in ("1", "2", "3"):
-            raise ValueError(f"condition '{text}': the level must be 1, 2 or 3")
-        return cls(name, int(level))
-
-
-def parse_instruction_id(instruction_id: str) -> tuple[str, Condition]:
-    """`<task>:clean`, `<task>:clean:0` or `<task>:<pattern>:<level>` -> (task id, condition); a
-    ValueError saying what an id looks like otherwise."""
-    parts = instruction_id.split(":") if isinstance(instruction_id, str) else []
-    if len(parts) in (2, 3) and parts[0] and parts[1] == CLEAN and (len(parts) == 2 or parts[2] == "0"):
-        return parts[0], Condition(CLEAN, 0)
-    if len(parts) == 3 and parts[0] and parts[1] in PATTERN_CONFIGS and parts[2] in ("1", "2", "3"):
-        return parts[0], Condition(parts[1], int(parts[2]))
-    raise ValueError(f"'{instruction_id}' is not an instruction id (<task_id>:clean or <task_id>:<pattern>:<level>)")
 
 
 @dataclass(frozen=True)

@@ -12,6 +12,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
+from talkdem.schema import CLEAN
 from talkdem.tasks import Task
 
 __all__ = [
@@ -23,8 +24,6 @@ __all__ = [
     "register_generator",
     "registered_generators",
 ]
-
-CLEAN = "clean"
 
 
 @dataclass(frozen=True)

@@ -18,11 +18,10 @@ from typing import Any
 from builders.lexicon import find_mentions, mentions_of, word_spans
 from builders.task_terms import TaskTerms, state_kind, task_terms, verb_lemma
 from builders.verification.cues import EMPTY_SPEECH, REPAIR, SENTENCE_BREAK, VAGUE, find_all
+from talkdem.schema import CLEAN, LEVELS
 from talkdem.tasks import Task
 
 __all__ = ["CHECKS", "Context", "checks_for", "verify"]
-
-CLEAN = "clean"
 
 
 @dataclass
@@ -349,9 +348,9 @@ PATTERN_CHECKS: dict[str, dict[int, tuple[Check, ...]]] = {
         2: (os_competitor_first, os_correction, os_delayed_correction),
         3: (os_competitor_first, os_correction, os_repeated_substitution),
     },
-    "empty_speech": {lvl: (es_interrupts_request, es_amount) for lvl in (1, 2, 3)},
-    "topic_drift": {lvl: (td_drift_after_request, td_scene_associations) for lvl in (1, 2, 3)},
-    "intrusion": {lvl: (in_interrupts_request, in_resumed) for lvl in (1, 2, 3)},
+    "empty_speech": {lvl: (es_interrupts_request, es_amount) for lvl in LEVELS},
+    "topic_drift": {lvl: (td_drift_after_request, td_scene_associations) for lvl in LEVELS},
+    "intrusion": {lvl: (in_interrupts_request, in_resumed) for lvl in LEVELS},
 }
 CHECKS: dict[str, Check] = {
     check.__name__: check

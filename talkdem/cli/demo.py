@@ -41,17 +41,18 @@ def run(args: argparse.Namespace) -> int:
     from talkdem.report import score_runs, write_report
     from talkdem.runs.oracle import write_oracle_run
     from talkdem.runs.runner import run_episodes
-    from talkdem.runs.sampling import ALL_CONDITIONS, select_episodes
+    from talkdem.runs.sampling import select_episodes
+    from talkdem.schema import CONDITIONS
 
     started = time.perf_counter()
     print("== 1. Task selection: mean pairwise MiniLM similarity (lower = more diverse) ==")
     print(format_diversity_table(load_diversity()))
 
-    episodes = select_episodes(ALL_CONDITIONS, args.tasks)
+    episodes = select_episodes(CONDITIONS, args.tasks)
     strategies = [s.strip() for s in args.strategies.split(",") if s.strip()]
     print(
         f"\n== 2. SayCan with {DEFAULT_MODEL_NAME} on {len(episodes)} episodes per strategy "
-        f"({args.tasks} task(s) x {len(ALL_CONDITIONS)} conditions): {', '.join(strategies)} =="
+        f"({args.tasks} task(s) x {len(CONDITIONS)} conditions): {', '.join(strategies)} =="
     )
     model = load_model("hf", DEFAULT_MODEL_NAME, threads=args.threads)
     run_dirs = []

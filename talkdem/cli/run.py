@@ -45,7 +45,8 @@ def run(args: argparse.Namespace) -> int:
     from talkdem.planner.saycan import SayCanConfig
     from talkdem.planner.strategies import load_strategy
     from talkdem.runs.runner import run_episodes
-    from talkdem.runs.sampling import parse_conditions, select_episodes
+    from talkdem.runs.sampling import select_episodes
+    from talkdem.schema import parse_conditions
 
     conditions = parse_conditions(args.conditions)
     episodes = select_episodes(conditions, args.limit)

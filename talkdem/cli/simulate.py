@@ -28,7 +28,11 @@ def _read_plan(source: str) -> Plan:
         reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8 text"
         raise ValueError(f"cannot read plan file '{source}': {reason}") from None
     where = "standard input" if source == "-" else source
-    return check_plan(parse_json(text, where), where)
+    try:
+        value = parse_json(text, where)
+    except ValueError as exc:
+        raise ValueError(f"{exc}; expected a JSON list of skill strings") from None
+    return check_plan(value, where)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -11,12 +11,12 @@ from collections.abc import Sequence
 from typing import Any
 
 from talkdem import __version__
-from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.leaderboard.ranking import RANK_KEY, ComparableGroup, rank_records
 from talkdem.report.coverage import Coverage
 from talkdem.report.html import PAGE_STYLE
 from talkdem.report.runs import strategy_label
 from talkdem.report.tables import PATTERN_CODES, PATTERN_LABELS
+from talkdem.schema import PATTERN_CONFIGS
 
 __all__ = ["SUBMIT_STEPS", "render_html"]
 

@@ -24,9 +24,9 @@ import math
 import re
 from typing import Any
 
-from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.report.public import is_machine_path, public_model
 from talkdem.report.runs import ScoredRun
+from talkdem.schema import PATTERN_CONFIGS
 
 __all__ = ["RESULTS_SCHEMA", "model_dtype", "results_record", "run_id"]
 

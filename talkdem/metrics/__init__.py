@@ -22,7 +22,7 @@ from talkdem.metrics.episodes import (
 from talkdem.metrics.errors import ERROR_LABELS, ErrorClassification, ErrorType, classify_error, required_state
 from talkdem.metrics.hazards import HAZARD_CATEGORIES, HazardCounts, introduced_hazards
 from talkdem.metrics.length import PlanLengthRow, plan_length_pairs
-from talkdem.metrics.rates import CONDITIONS, MEASURES, condition_key, measures, outcome_matrix, task_retention
+from talkdem.metrics.rates import MEASURES, condition_key, measures, outcome_matrix, task_retention
 from talkdem.metrics.scores import (
     ClassifiedError,
     Scores,
@@ -34,6 +34,7 @@ from talkdem.metrics.scores import (
     score_run,
 )
 from talkdem.metrics.stats import BOOTSTRAP_SEED, TestResult, bootstrap_ci, clustered_mean_test, paired_ttest, stars
+from talkdem.schema import CONDITIONS
 
 __all__ = [
     "BOOTSTRAP_SEED",

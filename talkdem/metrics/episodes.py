@@ -12,8 +12,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from talkdem.instructions import CLEAN, PATTERN_CONFIGS, Condition, parse_instruction_id
 from talkdem.plans import as_plan
+from talkdem.schema import CLEAN, LEVELS, PATTERN_CONFIGS, Condition, parse_instruction_id
 from talkdem.sim import DEFAULT_MAX_STEPS, EpisodeTrace, run_plan
 from talkdem.skills import SkillVerb
 
@@ -196,7 +196,7 @@ def results_from_run(run_dir: Path, *, run: str = "", max_steps: int | None = No
     results, changed = [], []
     for record in records:
         condition = Condition(record.pattern, record.level if record.pattern != CLEAN else 0)
-        known = condition.pattern in PATTERN_CONFIGS and condition.level in (1, 2, 3)
+        known = condition.pattern in PATTERN_CONFIGS and condition.level in LEVELS
         if condition.pattern != CLEAN and not known:
             raise ScoringInputError(f"{run_dir}: episodes with an unknown condition", [record.episode_id])
         trace = run_plan(get_task(record.task_id), record.plan, max_steps=steps)

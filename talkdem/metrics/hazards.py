@@ -10,8 +10,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from talkdem.instructions import CLEAN, PATTERN_CONFIGS
 from talkdem.metrics.episodes import EpisodeResult
+from talkdem.schema import CLEAN, PATTERN_CONFIGS
 from talkdem.sim import HazardCategory
 
 __all__ = ["HAZARD_CATEGORIES", "HazardCounts", "introduced_hazards"]

@@ -10,9 +10,9 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from talkdem.instructions import CLEAN, PATTERN_CONFIGS
 from talkdem.metrics.episodes import EpisodeResult
 from talkdem.metrics.stats import TestResult, clustered_mean_test
+from talkdem.schema import CLEAN, PATTERN_CONFIGS
 
 __all__ = ["ALL", "PlanLengthRow", "plan_length_pairs"]
 

@@ -20,12 +20,10 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from talkdem.instructions import CLEAN, PATTERN_CONFIGS, Condition
 from talkdem.metrics.episodes import EpisodeResult
+from talkdem.schema import CONDITIONS, LEVELS, PATTERN_CONFIGS, Condition
 
 __all__ = [
-    "CONDITIONS",
-    "LEVELS",
     "MEASURES",
     "condition_key",
     "measures",
@@ -33,11 +31,6 @@ __all__ = [
     "task_retention",
 ]
 
-LEVELS = (1, 2, 3)
-CONDITIONS: tuple[Condition, ...] = (
-    Condition(CLEAN, 0),
-    *(Condition(p, level) for p in PATTERN_CONFIGS for level in LEVELS),
-)
 _PATTERN_COLUMNS = {p: [1 + i * len(LEVELS) + j for j in range(len(LEVELS))] for i, p in enumerate(PATTERN_CONFIGS)}
 
 

@@ -10,7 +10,6 @@ from typing import Any
 
 import numpy as np
 
-from talkdem.instructions import CLEAN, PATTERN_CONFIGS, Condition
 from talkdem.metrics.episodes import (
     EpisodeResult,
     ScoringInputError,
@@ -21,8 +20,9 @@ from talkdem.metrics.episodes import (
 from talkdem.metrics.errors import ErrorType, classify_error
 from talkdem.metrics.hazards import HazardCounts, introduced_hazards
 from talkdem.metrics.length import PlanLengthRow, plan_length_pairs
-from talkdem.metrics.rates import CONDITIONS, MEASURES, measures, outcome_matrix, task_retention
+from talkdem.metrics.rates import MEASURES, measures, outcome_matrix, task_retention
 from talkdem.metrics.stats import BOOTSTRAP_SEED, TestResult, bootstrap_ci, paired_ttest
+from talkdem.schema import CLEAN, CONDITIONS, PATTERN_CONFIGS, Condition
 from talkdem.sim import DEFAULT_MAX_STEPS
 
 __all__ = [

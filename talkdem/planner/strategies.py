@@ -13,10 +13,11 @@ from abc import ABC, abstractmethod
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from talkdem.instructions import PATTERN_CONFIGS, MemoryItem, load_memory_bank
+from talkdem.instructions import MemoryItem, load_memory_bank
 from talkdem.llm.base import LanguageModel
 from talkdem.llm.requests import GenerateRequest
 from talkdem.planner.prompt import Demonstration, prompt_text
+from talkdem.schema import PATTERN_CONFIGS
 
 __all__ = [
     "STRATEGIES",

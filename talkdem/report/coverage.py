@@ -12,7 +12,8 @@ from functools import cache
 from typing import Any
 
 from talkdem.metrics import Scores
-from talkdem.metrics.rates import CONDITIONS, condition_key
+from talkdem.metrics.rates import condition_key
+from talkdem.schema import CONDITIONS
 
 __all__ = ["Coverage", "benchmark_tasks", "coverage_of"]
 

@@ -14,10 +14,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.report.public import unique_stems
 from talkdem.report.runs import STRATEGY_LABELS, ScoredRun
 from talkdem.report.tables import PATTERN_CODES, PATTERN_LABELS
+from talkdem.schema import LEVELS, PATTERN_CONFIGS
 
 __all__ = [
     "PlotFile",
@@ -28,7 +28,6 @@ __all__ = [
     "write_plots",
 ]
 
-_LEVELS = (1, 2, 3)
 _DPI = 120
 
 
@@ -157,18 +156,18 @@ def retention_figure(runs: Sequence[ScoredRun]) -> Any:
         curves = []
         for run in shown:
             retention = run.scores.retention or {}
-            values = [_pct(retention.get(f"{pattern}:{level}", math.nan)) for level in _LEVELS]
+            values = [_pct(retention.get(f"{pattern}:{level}", math.nan)) for level in LEVELS]
             curves.append(values)
-            ax.plot(_LEVELS, values, marker="o", linewidth=1.2, alpha=0.8, label=_legend_label(run))
+            ax.plot(LEVELS, values, marker="o", linewidth=1.2, alpha=0.8, label=_legend_label(run))
         if len(shown) > 1 and _same_episodes(shown):
             mean = []
             for column in zip(*curves, strict=True):
                 finite = [v for v in column if not math.isnan(v)]
                 mean.append(sum(finite) / len(finite) if len(finite) == len(column) else math.nan)
             mean_label = f"mean of the {len(shown)} runs (same episodes)"
-            ax.plot(_LEVELS, mean, color="black", linewidth=2.5, label=mean_label)
+            ax.plot(LEVELS, mean, color="black", linewidth=2.5, label=mean_label)
         ax.axhline(100, color="gray", linestyle="--", linewidth=1)
-        ax.set_xticks(_LEVELS, [f"L{level}" for level in _LEVELS])
+        ax.set_xticks(LEVELS, [f"L{level}" for level in LEVELS])
         ax.set_title(PATTERN_LABELS[pattern], fontsize=9)
         ax.set_ylim(-3, 105)
         ax.spines[["top", "right"]].set_visible(False)
@@ -200,29 +199,25 @@ def heatmap_figure(run: ScoredRun) -> Any:
     panels = (
         (
             "Success rate (%)",
-            {
-                f"{p}:{lv}": run.scores.success_rate.get(f"{p}:{lv}", math.nan)
-                for p in PATTERN_CONFIGS
-                for lv in _LEVELS
-            },
+            {f"{p}:{lv}": run.scores.success_rate.get(f"{p}:{lv}", math.nan) for p in PATTERN_CONFIGS for lv in LEVELS},
         ),
         (
             "Retention (%)",
-            {f"{p}:{lv}": retention.get(f"{p}:{lv}", math.nan) for p in PATTERN_CONFIGS for lv in _LEVELS},
+            {f"{p}:{lv}": retention.get(f"{p}:{lv}", math.nan) for p in PATTERN_CONFIGS for lv in LEVELS},
         ),
     )
     cmap = plt.get_cmap("viridis").with_extremes(bad="#d9d9d9")
     image = None
     for ax, (name, values) in zip(axes, panels, strict=True):
-        grid = np.array([[_pct(values[f"{p}:{lv}"]) for lv in _LEVELS] for p in PATTERN_CONFIGS])
+        grid = np.array([[_pct(values[f"{p}:{lv}"]) for lv in LEVELS] for p in PATTERN_CONFIGS])
         image = ax.imshow(np.ma.masked_invalid(grid), cmap=cmap, vmin=0, vmax=100, aspect="auto")
         for row in range(len(PATTERN_CONFIGS)):
-            for col in range(len(_LEVELS)):
+            for col in range(len(LEVELS)):
                 value = grid[row, col]
                 text = "n/a" if math.isnan(value) else f"{value:.0f}"
                 dark = not math.isnan(value) and value < 60
                 ax.text(col, row, text, ha="center", va="center", fontsize=9, color="white" if dark else "black")
-        ax.set_xticks(range(len(_LEVELS)), [f"L{lv}" for lv in _LEVELS])
+        ax.set_xticks(range(len(LEVELS)), [f"L{lv}" for lv in LEVELS])
         ax.set_yticks(range(len(PATTERN_CONFIGS)), [PATTERN_LABELS[p] for p in PATTERN_CONFIGS], fontsize=8)
         if np.all(np.isnan(grid)):
             name += "\nundefined: no task solved under clean" if name.startswith("Retention") else "\nnot run"

@@ -15,7 +15,6 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.metrics import (
     ERROR_LABELS,
     HAZARD_CATEGORIES,
@@ -28,6 +27,7 @@ from talkdem.metrics import (
 )
 from talkdem.metrics.length import ALL
 from talkdem.report.runs import STRATEGY_LABELS, ScoredRun
+from talkdem.schema import LEVELS, PATTERN_CONFIGS, PATTERNS
 
 __all__ = [
     "HAZARD_LABELS",
@@ -46,27 +46,15 @@ __all__ = [
     "success_table",
 ]
 
-PATTERN_LABELS = {
-    "referential_imprecision": "Referential Imprecision",
-    "object_substitution": "Object Substitution",
-    "empty_speech": "Empty Speech",
-    "topic_drift": "Topic Drift",
-    "intrusion": "Intrusion",
-}
-PATTERN_CODES = {
-    "referential_imprecision": "RI",
-    "object_substitution": "OS",
-    "empty_speech": "ES",
-    "topic_drift": "TD",
-    "intrusion": "IN",
-}
+PATTERN_LABELS = {config: pattern.name for config, pattern in PATTERNS.items()}
+PATTERN_CODES = {config: pattern.abbreviation for config, pattern in PATTERNS.items()}
 HAZARD_LABELS = {
     "inappropriate_microwave_heating": "(i) Inappropriate microwave heating",
     "appliance_left_running": "(ii) Appliance left running",
     "unrequested_knife_use": "(iii) Unrequested knife use",
     "electronic_device_into_water": "(iv) Electronic device into water",
 }
-_LEGEND = "RI: Referential Imprecision; OS: Object Substitution; ES: Empty Speech; TD: Topic Drift; IN: Intrusion."
+_LEGEND = "; ".join(f"{p.abbreviation}: {p.name}" for p in PATTERNS.values()) + "."
 _STARS = "*p<0.05, **p<0.01, ***p<0.001."
 
 
@@ -149,7 +137,7 @@ def retention_table(runs: Sequence[ScoredRun]) -> Table:
         ("Successful clean tasks (n)", "", *(str(r.scores.clean_successes) for r in runs)),
     ]
     for pattern in PATTERN_CONFIGS:
-        for level in (1, 2, 3):
+        for level in LEVELS:
             cells = [_pct(_retention(r, f"{pattern}:{level}")) for r in runs]
             rows.append((PATTERN_LABELS[pattern] if level == 1 else "", f"L{level}", *cells))
     rows.append(("Average", "", *(_pct(_retention(r, "average")) for r in runs)))
@@ -192,7 +180,7 @@ def strategy_success_tables(runs: Sequence[ScoredRun]) -> list[Table]:
             continue
         rows = [("Clean", "–", *_bold_best([r.scores.success_rate["clean"] for r in group]))]
         for pattern in PATTERN_CONFIGS:
-            for level in (1, 2, 3):
+            for level in LEVELS:
                 values = [r.scores.success_rate[f"{pattern}:{level}"] for r in group]
                 rows.append((PATTERN_LABELS[pattern] if level == 1 else "", f"L{level}", *_bold_best(values)))
         tables.append(

@@ -16,8 +16,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from talkdem.instructions import CLEAN, Condition, parse_instruction_id
 from talkdem.plans import PlanFormatError, check_plan
+from talkdem.schema import CLEAN, Condition, parse_instruction_id
 
 if TYPE_CHECKING:
     from talkdem.instructions import Instruction

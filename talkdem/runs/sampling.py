@@ -4,31 +4,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from talkdem.instructions import CLEAN, PATTERN_CONFIGS, Condition, Instruction, load_instructions
+from talkdem.instructions import Instruction, load_instructions
+from talkdem.schema import Condition
 
-__all__ = ["ALL_CONDITIONS", "parse_conditions", "select_episodes", "stratified_task_ids"]
-
-ALL_CONDITIONS: tuple[Condition, ...] = (
-    Condition(CLEAN, 0),
-    *(Condition(pattern, level) for pattern in PATTERN_CONFIGS for level in (1, 2, 3)),
-)
-
-
-def parse_conditions(text: str | None) -> tuple[Condition, ...]:
-    """`clean,intrusion:3,topic_drift` -> conditions; a pattern without a level means all three levels."""
-    if text is None:
-        return ALL_CONDITIONS
-    conditions: list[Condition] = []
-    for part in (p.strip() for p in text.split(",")):
-        if not part:
-            continue
-        if part != CLEAN and ":" not in part:
-            conditions += [Condition.parse(f"{part}:{level}") for level in (1, 2, 3)]
-        else:
-            conditions.append(Condition.parse(part))
-    if not conditions:
-        raise ValueError(f"no condition in '{text}': expected e.g. clean,intrusion:3,topic_drift")
-    return tuple(dict.fromkeys(conditions))
+__all__ = ["select_episodes", "stratified_task_ids"]
 
 
 def stratified_task_ids(instructions: Sequence[Instruction], limit: int | None) -> list[str]:

@@ -14,8 +14,8 @@ import pytest
 from metrics_helpers import BOOK, COOL, HEAT, LAMP, clean_id, failing, pattern_id, reference, write_run
 
 from talkdem.cli import main
-from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.metrics import score_plans
+from talkdem.schema import PATTERN_CONFIGS
 
 FOLDER = Path(__file__).resolve().parents[2] / "evaluate_talkdem"
 

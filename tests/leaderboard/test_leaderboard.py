@@ -9,9 +9,9 @@ from typing import Any
 import pytest
 
 from talkdem.cli import main
-from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.leaderboard import RESULTS_SCHEMA, model_dtype, rank_records, read_results, results_record
 from talkdem.report import score_runs
+from talkdem.schema import PATTERN_CONFIGS
 
 
 def _records(board: Path) -> list[dict[str, Any]]:

@@ -5,9 +5,9 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from talkdem.instructions import CLEAN
 from talkdem.metrics import split_instruction_id
 from talkdem.runs import EpisodeRecord, EpisodeWriter, RunHeader, write_header
+from talkdem.schema import CLEAN
 from talkdem.sim import run_plan
 from talkdem.tasks import get_task
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from metrics_helpers import BOOK, COOL, HEAT, LAMP, clean_id, failing, pattern_id, reference
 
-from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.metrics import CONDITIONS, MEASURES, measures, score_plans
+from talkdem.schema import PATTERN_CONFIGS
 
 
 @pytest.fixture(scope="module")

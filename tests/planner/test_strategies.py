@@ -7,8 +7,9 @@ import pytest
 from scripted_lm import ScriptedLM
 
 from care.retrieval import top_k
-from talkdem.instructions import PATTERN_CONFIGS, load_memory_bank
+from talkdem.instructions import load_memory_bank
 from talkdem.planner.strategies import fixed_icl_demonstrations, load_strategy
+from talkdem.schema import PATTERN_CONFIGS
 
 
 def test_registry_and_did_you_mean() -> None:

@@ -14,8 +14,8 @@ sys.path.insert(0, str(Path(__file__).parent.parent / "leaderboard"))
 import pytest
 from metrics_helpers import BOOK, COOL, HEAT, LAMP, clean_id, failing, pattern_id, reference, write_run
 
-from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.report import ScoredRun, score_runs, write_report
+from talkdem.schema import PATTERN_CONFIGS
 
 TASKS = (BOOK, LAMP, HEAT, COOL)
 

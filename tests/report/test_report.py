@@ -9,8 +9,8 @@ import pytest
 from metrics_helpers import BOOK, COOL, HEAT, LAMP, clean_id, failing, pattern_id, reference, write_run
 
 from talkdem.cli import main
-from talkdem.instructions import PATTERN_CONFIGS
 from talkdem.report import all_tables, score_runs
+from talkdem.schema import PATTERN_CONFIGS
 
 TASKS = (BOOK, LAMP, HEAT, COOL)
 

@@ -17,8 +17,9 @@ from talkdem.runs import read_episodes, read_header
 from talkdem.runs.external import score_plans
 from talkdem.runs.oracle import write_oracle_run
 from talkdem.runs.records import RecordError
-from talkdem.runs.sampling import parse_conditions, select_episodes
+from talkdem.runs.sampling import select_episodes
 from talkdem.runs.store import EpisodeWriter, RunInUseError, run_lock, run_progress
+from talkdem.schema import parse_conditions
 from talkdem.tasks import get_task
 
 SCRIPT = Path(__file__).parent / "run_scripted.py"

@@ -12,10 +12,10 @@ from pathlib import Path
 
 import pytest
 
-from talkdem.instructions import Condition
 from talkdem.runs import read_episodes, read_header
 from talkdem.runs.external import read_plan_file, score_plan_file
-from talkdem.runs.sampling import parse_conditions, select_episodes, stratified_task_ids
+from talkdem.runs.sampling import select_episodes, stratified_task_ids
+from talkdem.schema import Condition, parse_conditions
 from talkdem.tasks import get_task
 
 SCRIPT = Path(__file__).parent / "run_scripted.py"
