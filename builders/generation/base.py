@@ -12,6 +12,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
+from talkdem.registry import Registry
 from talkdem.schema import CLEAN
 from talkdem.tasks import Task
 
@@ -63,20 +64,17 @@ def derive_seed(base_seed: int, *parts: object) -> int:
     return int.from_bytes(hashlib.sha256(key.encode()).digest()[:4], "big")
 
 
-_REGISTRY: dict[str, Callable[[], Generator]] = {}
+GENERATORS: Registry[Generator] = Registry("generator")
 
 
 def register_generator(name: str, factory: Callable[[], Generator]) -> None:
-    _REGISTRY[name] = factory
+    GENERATORS.register(name, factory)
 
 
 def registered_generators() -> tuple[str, ...]:
-    return tuple(sorted(_REGISTRY))
+    return tuple(sorted(GENERATORS))
 
 
 def get_generator(name: str) -> Generator:
     """A generator by registry name; unknown names list the known ones."""
-    if name not in _REGISTRY:
-        known = ", ".join(registered_generators())
-        raise ValueError(f"unknown generator '{name}': known generators are {known}")
-    return _REGISTRY[name]()
+    return GENERATORS.create(name)

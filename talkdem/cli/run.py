@@ -15,9 +15,10 @@ def register(subparsers: Any) -> None:
     parser = subparsers.add_parser("run", help="run the SayCan planner with an LLM and a strategy over episodes")
     parser.add_argument("--model", default="smollm2-135m-instruct", help="path, model id or served model name")
     from talkdem.llm.registry import BACKENDS  # a light module: backends themselves load lazily
+    from talkdem.planner.strategies import STRATEGIES
 
-    parser.add_argument("--backend", default="hf", choices=sorted(BACKENDS))
-    parser.add_argument("--strategy", default="vanilla", choices=["vanilla", "ap", "cot", "icl", "tocc", "care"])
+    parser.add_argument("--backend", default="hf", choices=BACKENDS.names())
+    parser.add_argument("--strategy", default="vanilla", choices=STRATEGIES.names())
     parser.add_argument(
         "--conditions", help="comma-separated: clean, PATTERN (all levels) or PATTERN:LEVEL (default: all 16)"
     )

@@ -7,8 +7,6 @@ as `module:Class` and imported lazily (CARE lives in the top-level `care/` packa
 
 from __future__ import annotations
 
-import difflib
-import importlib
 from abc import ABC, abstractmethod
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -17,6 +15,7 @@ from talkdem.instructions import MemoryItem, load_memory_bank
 from talkdem.llm.base import LanguageModel
 from talkdem.llm.requests import GenerateRequest
 from talkdem.planner.prompt import Demonstration, prompt_text
+from talkdem.registry import Registry
 from talkdem.schema import PATTERN_CONFIGS
 
 __all__ = [
@@ -142,22 +141,17 @@ class InContextLearning(Strategy):
         ]
 
 
-STRATEGIES: dict[str, str] = {
-    "vanilla": "talkdem.planner.strategies:Vanilla",
-    "ap": "talkdem.planner.strategies:AwarePrompt",
-    "cot": "talkdem.planner.strategies:ChainOfThought",
-    "icl": "talkdem.planner.strategies:InContextLearning",
-    "tocc": "talkdem.planner.strategies:TaskOrientedContextCognition",
-    "care": "care.strategy:ContextAwareRetrieval",
-}
+# The paper's order; labels are what tables, plots and the leaderboard show. CARE lives in the top-level
+# `care/` package, which imports this module: registering it by name keeps the dependency one-way.
+STRATEGIES: Registry[Strategy] = Registry("strategy")
+STRATEGIES.register("vanilla", Vanilla, "Vanilla")
+STRATEGIES.register("ap", AwarePrompt, "AP")
+STRATEGIES.register("cot", ChainOfThought, "CoT")
+STRATEGIES.register("icl", InContextLearning, "ICL")
+STRATEGIES.register("tocc", TaskOrientedContextCognition, "TOCC")
+STRATEGIES.register("care", "care.strategy:ContextAwareRetrieval", "CARE")
 
 
 def load_strategy(name: str) -> Strategy:
     """Instantiate a registered strategy; unknown names get a did-you-mean."""
-    if name not in STRATEGIES:
-        close = difflib.get_close_matches(name, STRATEGIES, n=1)
-        hint = f"; did you mean '{close[0]}'?" if close else ""
-        raise ValueError(f"unknown strategy '{name}' (known: {', '.join(STRATEGIES)}){hint}")
-    module_name, class_name = STRATEGIES[name].split(":")
-    strategy: Strategy = getattr(importlib.import_module(module_name), class_name)()
-    return strategy
+    return STRATEGIES.create(name)

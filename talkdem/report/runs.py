@@ -9,13 +9,15 @@ from pathlib import Path
 
 from talkdem.metrics import Scores, compute_scores, results_from_run
 from talkdem.metrics.stats import BOOTSTRAP_SEED
+from talkdem.planner.strategies import STRATEGIES
 from talkdem.report.coverage import Coverage, coverage_of
 from talkdem.report.public import public_model, unique_stems
 from talkdem.runs import RunHeader, read_header
 
 __all__ = ["REFERENCE_STRATEGY", "STRATEGY_LABELS", "ScoredRun", "score_runs", "slug", "strategy_label"]
 
-STRATEGY_LABELS = {"vanilla": "Vanilla", "ap": "AP", "cot": "CoT", "icl": "ICL", "tocc": "TOCC", "care": "CARE"}
+STRATEGY_LABELS = STRATEGIES.labels()
+"""Registered strategy name -> the label tables and plots show."""
 """The paper's names of the prompting strategies, in its column order."""
 
 

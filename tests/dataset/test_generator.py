@@ -70,5 +70,5 @@ def test_level_meanings_are_documented() -> None:
 
 def test_registry_names_unknown_generators() -> None:
     assert get_generator("rules").name == "rules"
-    with pytest.raises(ValueError, match="known generators are"):
+    with pytest.raises(ValueError, match="unknown generator"):
         get_generator("gpt-99")

@@ -29,6 +29,6 @@ class SlowScripted(ScriptedLM):
         return super().loglikelihood(requests)
 
 
-registry.BACKENDS["scripted"] = f"{__name__}:SlowScripted"
+registry.BACKENDS.register("scripted", SlowScripted)
 sys.modules[__name__] = sys.modules["__main__"]
 sys.exit(main(sys.argv[2:]))

@@ -37,12 +37,13 @@ def _oracle_plans(conditions: str = "clean,intrusion:2", tasks: int = 2) -> dict
 
 def test_a_second_writer_is_refused_and_nothing_is_duplicated(tmp_path: Path) -> None:
     run_dir = tmp_path / "run"
-    first = _scripted(run_dir, 0.1)
+    first = _scripted(run_dir, 1.0)  # ~12 s in all: still writing when the second one starts
     deadline = time.time() + 120
     while time.time() < deadline and not (run_dir / "episodes.jsonl").exists():
         time.sleep(0.05)
     second = _scripted(run_dir, 0.0)
     _, error = second.communicate(timeout=120)
+    assert first.poll() is None, "the first run must still hold the lock for this test to mean anything"
     assert second.returncode == 2
     assert "another talkdem process is writing this run" in error and "Traceback" not in error
     assert first.wait(timeout=300) == 0
