@@ -357,8 +357,9 @@ def _turn_off_effect(state: SimState, target: Target) -> None:
 
 
 def _slice_pre(state: SimState, skill: Skill) -> Target | StepFailure:
-    # LoTa-Bench `slice` sends SliceObject with no check of the hand; AI2-THOR needs a visible, unsliced sliceable.
-    reachable = at_hand(state, skill.object_type)
+    # LoTa-Bench `slice` sends SliceObject with no check of the hand; AI2-THOR needs a visible, unsliced
+    # sliceable that is not the object in the agent's hand.
+    reachable = [o for o in at_hand(state, skill.object_type) if not state.is_carried(o)]
     if not reachable:
         return StepFailure(FailureKind.NOT_FOUND, f"Cannot find {_name(skill)} to slice")
     candidates = [o for o in reachable if state.specs[o].sliceable and o not in state.sliced]
