@@ -115,27 +115,35 @@ def at_hand(state: SimState, skill_type: str) -> list[str]:
     return [entry[-1] for entry in sorted(ranked)]
 
 
+def visible(state: SimState, object_id: str) -> bool:
+    """AI2-THOR's `visible` (in view and within `visibilityDistance`), symbolically: carried, or not inside a
+    closed receptacle and at the current location or within `REACH_M`. Which way the agent faces is not modelled."""
+    if state.is_carried(object_id):
+        return True
+    if state.inside_closed(object_id) is not None:
+        return False
+    return _at_location(state, object_id) or state.distance(object_id) <= REACH_M
+
+
 def find_order(state: SimState, skill_type: str) -> list[str]:
-    """Instances in the order `find` prefers them (simulator.md: nearest visible; closed, busy burners last)."""
+    """Instances in the order LoTa-Bench's `nav_obj` ranks them (`get_obj_id_from_name` with the visibility
+    priority): outside closed receptacles, then not a loaded stove burner, then visible, then slices, then nearest."""
     ranked = []
     for oid in state.instances(skill_type):
         spec = state.specs[oid]
         busy_burner = spec.object_type == "StoveBurner" and bool(state.contents.get(oid))
-        # Calibration to the stored reference plans, which name a receptacle type where the expert went to
-        # one instance: "find a cabinet, open the cabinet, pick up the pan" must reach the cabinet holding
-        # the pan, so receptacles holding something come before empty ones (fixtures only).
-        empty_fixture = spec.receptacle and not spec.pickupable and not state.contents.get(oid)
+        hidden = state.inside_closed(oid) is not None
+        seen = visible(state, oid)
+        # Calibration (docs/simulator.md): among visible fixtures of a type, one holding something first.
+        empty_fixture = seen and spec.receptacle and not spec.pickupable and not state.contents.get(oid)
         ranked.append(
             (
-                state.is_carried(oid),
-                state.inside_closed(oid) is not None,
+                hidden,
                 busy_burner,
+                not seen,
                 empty_fixture,
                 "Sliced" not in oid,
-                # The robot returns to an object it handled before another of the same type: after
-                # washing, "find a soap bar" means the one in the basin, not one nearer on the floor.
-                oid not in state.moved,
-                state.distance(oid),
+                0.0 if state.is_carried(oid) else state.distance(oid),
                 oid,
             )
         )

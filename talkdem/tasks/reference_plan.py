@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from talkdem.seeds.records import SeedTask
 from talkdem.skills import Skill, SkillVerb, skill_texts
 
-__all__ = ["ReferencePlanError", "object_type_of", "reference_plan", "reference_skills"]
+__all__ = ["ReferencePlanError", "object_type_of", "reference_plan", "reference_skills", "reference_steps"]
 
 _VERB_OF_ACTION = {
     "PickupObject": SkillVerb.PICK_UP,
@@ -107,6 +107,12 @@ def _is_at(place: _Place | None, location: str) -> bool:
 
 def reference_skills(seed: SeedTask) -> list[Skill]:
     """The reference plan as `Skill` records (see the module docstring for the rules)."""
+    return [skill for skill, _ in reference_steps(seed)]
+
+
+def reference_steps(seed: SeedTask) -> list[tuple[Skill, str]]:
+    """Each skill of the reference plan with, for a `find`, the whole id of the instance the expert went to
+    (empty for other skills)."""
     # Where each object is, as far as the trajectory tells: its source receptacle, then wherever it was put.
     inside: dict[str, _Place] = {
         _whole_object_id(src.object_id): _source_place(src.receptacle_type, src.receptacle_bounds)
@@ -115,7 +121,7 @@ def reference_skills(seed: SeedTask) -> list[Skill]:
     }
     location = ""  # whole id of the object last found
     destination = ""  # the location while LoTa-Bench still remembers it as the put-down destination
-    skills: list[Skill] = []
+    skills: list[tuple[Skill, str]] = []
     for step, action in enumerate(seed.interactions):
         verb = _VERB_OF_ACTION[action.action]
         acted_on = action.receptacle_id if verb is SkillVerb.PUT_DOWN else action.object_id
@@ -127,7 +133,7 @@ def reference_skills(seed: SeedTask) -> list[Skill]:
         else:
             reachable = place == location or _is_at(inside.get(place), location)
         if not reachable:
-            skills.append(Skill(SkillVerb.FIND, object_type_of(acted_on)))
+            skills.append((Skill(SkillVerb.FIND, object_type_of(acted_on)), place))
             location = destination = place
         skill = Skill(verb, object_type_of(action.object_id))
         if skill.text not in skill_texts():
@@ -135,14 +141,14 @@ def reference_skills(seed: SeedTask) -> list[Skill]:
                 f"task {seed.task_id} ({seed.source_file}): interaction {step} {action.action} "
                 f"{action.object_id} maps to '{skill.text}', which is not in the skill vocabulary"
             )
-        skills.append(skill)
+        skills.append((skill, ""))
         if verb not in (SkillVerb.PUT_DOWN, SkillVerb.OPEN):
             destination = ""
         if verb is SkillVerb.PUT_DOWN:
             inside[_whole_object_id(action.object_id)] = _Place(object_type_of(place), instance=place)
         elif verb is SkillVerb.PICK_UP:
             inside.pop(place, None)
-    skills.append(Skill(SkillVerb.DONE))
+    skills.append((Skill(SkillVerb.DONE), ""))
     return skills
 
 

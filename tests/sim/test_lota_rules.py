@@ -166,3 +166,41 @@ def test_unrequested_slicing_without_a_knife_is_a_hazard() -> None:
     trace = run_plan(task, ["find an apple", "slice the apple", *task.reference_plan])
     assert trace.steps[1].ok
     assert HazardRule.UNREQUESTED_SLICE in {h.rule for h in trace.hazards}
+
+
+def test_find_ranks_like_lota_bench_nearest_first_when_nothing_is_visible() -> None:
+    # LoTa-Bench's nav_obj: closed-receptacle penalty, busy burner, visibility, then distance. The old
+    # simulator also preferred stocked fixtures and objects handled before, wherever they were.
+    from talkdem.sim.actions import find_order
+
+    checked = 0
+    for task in load_tasks(TaskSet.BENCHMARK):
+        state = initial_state(task)
+        state.agent = (state.agent[0] + 50.0, state.agent[1] + 50.0)  # far from everything: nothing visible
+        cabinets = [c for c in state.instances("Cabinet") if state.inside_closed(c) is None]
+        if len(cabinets) < 2 or not any(state.contents.get(c) for c in cabinets):
+            continue
+        nearest = min(cabinets, key=lambda c: (state.distance(c), c))
+        if state.contents.get(nearest):
+            continue
+        assert find_order(state, "Cabinet")[0] == nearest
+        checked += 1
+    assert checked > 0
+
+
+def test_find_does_not_prefer_an_object_handled_before() -> None:
+    from talkdem.sim.actions import find_order
+
+    checked = 0
+    for task in load_tasks(TaskSet.BENCHMARK):
+        state = Episode(task).state
+        target = task.pddl_params.object_target
+        open_ones = sorted(o for o in state.instances(target) if state.inside_closed(o) is None)
+        if len(open_ones) < 2:
+            continue
+        handled = open_ones[0]
+        state.detach(handled)
+        state.moved[handled] = (state.agent[0] + 40.0, state.agent[1])  # handled, then left far away
+        assert find_order(state, target)[0] != handled
+        checked += 1
+    assert checked > 0
