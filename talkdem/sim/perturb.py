@@ -69,7 +69,7 @@ def _swap_type(rng: random.Random, body: list[str], verbs: set[SkillVerb], pool:
     i = rng.choice(slots)
     skill = parse_skill(body[i])
     assert skill is not None
-    choices = [t for t in pool if t != skill.object_type]
+    choices = [t for t in pool if t != skill.object_type and Skill(skill.verb, t).text in skill_texts()]
     if not choices:
         return None
     new_type = rng.choice(choices)
