@@ -10,12 +10,23 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from enum import StrEnum
 
-from talkdem.sim.affordances import KNIFE_TYPES
+from talkdem.sim.affordances import OBJECT_SPECIFIC_RECEPTACLES
 from talkdem.sim.goals import REACH_M
 from talkdem.sim.state import SimState, whole_object_id
 from talkdem.skills import Skill, SkillVerb, natural_name
 
-__all__ = ["ACTIONS", "ActionRule", "FailureKind", "StepFailure", "Target", "at_hand", "find_order"]
+__all__ = [
+    "ACTIONS",
+    "ActionRule",
+    "FailureKind",
+    "StepFailure",
+    "Target",
+    "at_hand",
+    "drop_held",
+    "find_order",
+    "put_order",
+    "remember_destination",
+]
 
 
 class FailureKind(StrEnum):
@@ -45,6 +56,8 @@ class StepFailure:
     kind: FailureKind
     message: str
     object_id: str | None = None
+    drops_held: bool = False
+    """LoTa-Bench drops the held object to the floor after this failure (a `put down` that failed)."""
 
 
 @dataclass(frozen=True)
@@ -61,11 +74,10 @@ Effect = Callable[[SimState, Target], None]
 
 @dataclass(frozen=True)
 class ActionRule:
-    """Precondition and effect of one verb; `on_failure` is what AI2-THOR does even when the action fails."""
+    """Precondition and effect of one verb."""
 
     precondition: Precondition
     effect: Effect
-    on_failure: Callable[[SimState], None] | None = None
 
 
 def _name(skill: Skill) -> str:
@@ -103,27 +115,35 @@ def at_hand(state: SimState, skill_type: str) -> list[str]:
     return [entry[-1] for entry in sorted(ranked)]
 
 
+def visible(state: SimState, object_id: str) -> bool:
+    """AI2-THOR's `visible` (in view and within `visibilityDistance`), symbolically: carried, or not inside a
+    closed receptacle and at the current location or within `REACH_M`. Which way the agent faces is not modelled."""
+    if state.is_carried(object_id):
+        return True
+    if state.inside_closed(object_id) is not None:
+        return False
+    return _at_location(state, object_id) or state.distance(object_id) <= REACH_M
+
+
 def find_order(state: SimState, skill_type: str) -> list[str]:
-    """Instances in the order `find` prefers them (simulator.md: nearest visible; closed, busy burners last)."""
+    """Instances in the order LoTa-Bench's `nav_obj` ranks them (`get_obj_id_from_name` with the visibility
+    priority): outside closed receptacles, then not a loaded stove burner, then visible, then slices, then nearest."""
     ranked = []
     for oid in state.instances(skill_type):
         spec = state.specs[oid]
         busy_burner = spec.object_type == "StoveBurner" and bool(state.contents.get(oid))
-        # Calibration to the stored reference plans, which name a receptacle type where the expert went to
-        # one instance: "find a cabinet, open the cabinet, pick up the pan" must reach the cabinet holding
-        # the pan, so receptacles holding something come before empty ones (fixtures only).
-        empty_fixture = spec.receptacle and not spec.pickupable and not state.contents.get(oid)
+        hidden = state.inside_closed(oid) is not None
+        seen = visible(state, oid)
+        # Calibration (docs/simulator.md): among visible fixtures of a type, one holding something first.
+        empty_fixture = seen and spec.receptacle and not spec.pickupable and not state.contents.get(oid)
         ranked.append(
             (
-                state.is_carried(oid),
-                state.inside_closed(oid) is not None,
+                hidden,
                 busy_burner,
+                not seen,
                 empty_fixture,
                 "Sliced" not in oid,
-                # The robot returns to an object it handled before another of the same type: after
-                # washing, "find a soap bar" means the one in the basin, not one nearer on the floor.
-                oid not in state.moved,
-                state.distance(oid),
+                0.0 if state.is_carried(oid) else state.distance(oid),
                 oid,
             )
         )
@@ -131,6 +151,15 @@ def find_order(state: SimState, skill_type: str) -> list[str]:
 
 
 # --- find -------------------------------------------------------------------------------------------
+
+
+def remember_destination(state: SimState, skill: Skill | None) -> None:
+    """LoTa-Bench `llm_skill_interact`: every skill but `put down` and `open` forgets the destination (an
+    unparsable one too); `find` records the type it names before it moves, so a failed find records it as well."""
+    if skill is None or skill.verb not in (SkillVerb.PUT_DOWN, SkillVerb.OPEN):
+        state.destination = None
+    if skill is not None and skill.verb is SkillVerb.FIND:
+        state.destination = skill.object_type
 
 
 def _find_pre(state: SimState, skill: Skill) -> Target | StepFailure:
@@ -171,54 +200,66 @@ def _pick_effect(state: SimState, target: Target) -> None:
     state.mark_moved(target.object_id)
 
 
+def put_order(state: SimState, skill_type: str) -> list[str]:
+    """Receptacles of the destination type in the order LoTa-Bench's `put` tries them (`get_obj_id_from_name`
+    without the visibility priority): not inside a closed receptacle, not a loaded stove burner, nearest."""
+    ranked = []
+    for oid in state.instances(skill_type):
+        busy_burner = state.specs[oid].object_type == "StoveBurner" and bool(state.contents.get(oid))
+        ranked.append((state.inside_closed(oid) is not None, busy_burner, state.distance(oid), oid))
+    return [entry[-1] for entry in sorted(ranked)]
+
+
+def _accepts(state: SimState, held: str, receptacle: str) -> bool:
+    """AI2-THOR `PlaceHeldObject` with `forceAction=True`: a visible receptacle, open if it opens, and an
+    object-specific receptacle only for its types and only while empty. Type restrictions are skipped."""
+    spec = state.specs[receptacle]
+    if not spec.receptacle or receptacle == held or state.is_carried(receptacle):
+        return False
+    if state.inside_closed(receptacle) is not None:
+        return False
+    if receptacle != state.location and state.distance(receptacle) > REACH_M:
+        return False
+    if spec.must_be_open and not state.is_open.get(receptacle, False):
+        return False
+    allowed = OBJECT_SPECIFIC_RECEPTACLES.get(spec.object_type)
+    return allowed is None or (state.specs[held].object_type in allowed and not state.contents.get(receptacle))
+
+
+# LoTa-Bench drops the object when `put`'s message is longer than this; "Cannot find Mug" keeps it in hand.
+_DROP_MESSAGE_LENGTH = 16
+
+
 def _put_pre(state: SimState, skill: Skill) -> Target | StepFailure:
     held = state.held
     if held is None:
         return StepFailure(FailureKind.HANDS_EMPTY, "Robot is not holding any object")
-    receptacle = state.location
-    fail = StepFailure(FailureKind.PUT_FAILED, "put down failed", held)
-    if receptacle is None or receptacle not in state.present or not state.specs[receptacle].receptacle:
-        return fail
-    if state.is_carried(receptacle) or state.inside_closed(receptacle) is not None:
-        return fail
-    if state.specs[receptacle].must_be_open and not state.is_open.get(receptacle, False):
-        return fail
-    return Target(held, _landing_spot(state, held, receptacle))
-
-
-def _landing_spot(state: SimState, held: str, receptacle: str) -> str:
-    """Where a put at `receptacle` lands: in the one pan/plate/bowl (else cup/mug) standing there, if just one.
-
-    The skill names no destination (LoTa-Bench puts into the current location), while ALFRED experts put a
-    fork into the pan inside the cabinet they opened, or a spoon into the pan they just set on the table;
-    an object dropped onto a shelf with one open container on it lands in that container. Receptacles
-    themselves (a plate put where a bowl stands) are not nested this way.
-    """
-    if state.specs[held].receptacle:
-        return receptacle
-    standing = [o for o in state.contents.get(receptacle, ()) if state.specs[o].object_type in _CONTAINER_TIERS]
-    for tier in (0, 1):
-        candidates = [o for o in standing if _CONTAINER_TIERS[state.specs[o].object_type] == tier]
-        if candidates:
-            return candidates[0] if len(candidates) == 1 else receptacle
-    return receptacle
-
-
-# Open-topped movable receptacles a dropped object can land in: wide ones first, narrow ones only alone.
-_CONTAINER_TIERS = {"Plate": 0, "Bowl": 0, "Pan": 0, "Pot": 0, "Cup": 1, "Mug": 1}
+    destination = state.destination
+    if destination is None:  # LoTa-Bench: no destination -> drop()
+        return StepFailure(FailureKind.PUT_FAILED, "put down failed", held, drops_held=True)
+    tried: list[str] = []
+    for receptacle in put_order(state, destination)[:2]:  # LoTa tries the closest, then the next closest
+        tried.append(receptacle)
+        if _accepts(state, held, receptacle):
+            return Target(held, receptacle)
+    # LoTa's last attempt looks for a sub-object (basin, slice) of the type other than the one it tried last;
+    # its message decides whether the object is dropped.
+    inherited = [o for o in state.instances(destination) if o.count("|") == 4 and o not in tried[-1:]]
+    message = f"Putting the object on {destination} failed" if inherited else f"Cannot find {destination}"
+    if len(message) > _DROP_MESSAGE_LENGTH:
+        return StepFailure(FailureKind.PUT_FAILED, "put down failed", held, drops_held=True)
+    return StepFailure(FailureKind.PUT_FAILED, message, held)
 
 
 def _put_effect(state: SimState, target: Target) -> None:
-    # LoTa-Bench places with forceAction=True, which makes AI2-THOR ignore its per-type receptacle
-    # restrictions; so any receptacle accepts any object (this is how a knife ends up in a microwave).
     assert target.object_id is not None and target.receptacle_id is not None
     state.held = None
     state.attach(target.object_id, target.receptacle_id)
     state.mark_moved(target.object_id)
 
 
-def _drop_held(state: SimState) -> None:
-    """A failed put leaves the object on the floor where the agent stands (LoTa-Bench drops it)."""
+def drop_held(state: SimState) -> None:
+    """A dropped object lies on the floor where the agent stands, in no receptacle (AI2-THOR `DropHandObject`)."""
     if state.held is None:
         return
     dropped, state.held = state.held, None
@@ -324,18 +365,15 @@ def _turn_off_effect(state: SimState, target: Target) -> None:
 
 
 def _slice_pre(state: SimState, skill: Skill) -> Target | StepFailure:
-    candidates = [o for o in at_hand(state, skill.object_type) if state.specs[o].sliceable and o not in state.sliced]
-    if not candidates:
+    # LoTa-Bench `slice` sends SliceObject with no check of the hand; AI2-THOR needs a visible, unsliced
+    # sliceable that is not the object in the agent's hand.
+    reachable = [o for o in at_hand(state, skill.object_type) if not state.is_carried(o)]
+    if not reachable:
         return StepFailure(FailureKind.NOT_FOUND, f"Cannot find {_name(skill)} to slice")
-    chosen = candidates[0]
-    hidden_by = state.inside_closed(chosen)
-    if hidden_by is not None:
-        where = state.specs[hidden_by].object_type
-        return StepFailure(FailureKind.NOT_VISIBLE, f"{_name(skill)} is not visible because it is in {where}", chosen)
-    # ALFRED: slicing needs a knife in hand.
-    if state.held is None or state.specs[state.held].object_type not in KNIFE_TYPES:
-        return StepFailure(FailureKind.SLICE_FAILED, "Slice action failed", chosen)
-    return Target(chosen)
+    candidates = [o for o in reachable if state.specs[o].sliceable and o not in state.sliced]
+    if not candidates or state.inside_closed(candidates[0]) is not None:
+        return StepFailure(FailureKind.SLICE_FAILED, "Slice action failed", (candidates or reachable)[0])
+    return Target(candidates[0])
 
 
 def _slice_effect(state: SimState, target: Target) -> None:
@@ -368,7 +406,7 @@ ACTIONS: dict[SkillVerb, ActionRule] = {
     SkillVerb.DONE: ActionRule(_done_pre, _no_effect),
     SkillVerb.FIND: ActionRule(_find_pre, _find_effect),
     SkillVerb.PICK_UP: ActionRule(_pick_pre, _pick_effect),
-    SkillVerb.PUT_DOWN: ActionRule(_put_pre, _put_effect, on_failure=_drop_held),
+    SkillVerb.PUT_DOWN: ActionRule(_put_pre, _put_effect),
     SkillVerb.OPEN: ActionRule(_open_pre, _open_effect),
     SkillVerb.CLOSE: ActionRule(_close_pre, _close_effect),
     SkillVerb.TURN_ON: ActionRule(_turn_on_pre, _turn_on_effect),

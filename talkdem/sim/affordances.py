@@ -14,6 +14,7 @@ __all__ = [
     "DIRTYABLE_TYPES",
     "KNIFE_TYPES",
     "MUST_BE_OPEN_TYPES",
+    "OBJECT_SPECIFIC_RECEPTACLES",
     "SLICE_COUNT",
     "STARTS_OPEN_TYPES",
     "TypeFlags",
@@ -39,8 +40,21 @@ MUST_BE_OPEN_TYPES = frozenset({"Drawer", "Cabinet", "LaundryHamper", "Microwave
 # without an OpenObject first).
 STARTS_OPEN_TYPES = frozenset({"Box", "Laptop"})
 
-# ALFRED slices with a held Knife or ButterKnife (env/thor_env.py `SliceObject` precondition).
+# Knife types (hazard rule iii). Slicing itself does not need one: ALFRED's knife check sits in
+# `env/thor_env.py` `to_thor_api_exec`, which LoTa-Bench's skill layer does not call (docs/simulator.md).
 KNIFE_TYPES = frozenset({"Knife", "ButterKnife"})
+
+# AI2-THOR `ObjectSpecificReceptacle`s: `PlaceHeldObject` checks the held type and that the attach point is free
+# before it looks at `forceAction`, so these hold only these types, one object at a time. The types are those of
+# ALFRED `gen/constants.py` `VAL_RECEPTACLE_OBJECTS` for the same receptacles.
+OBJECT_SPECIFIC_RECEPTACLES: dict[str, frozenset[str]] = {
+    "CoffeeMachine": frozenset({"Mug"}),
+    "StoveBurner": frozenset({"Kettle", "Pan", "Pot"}),
+    "Toaster": frozenset({"BreadSliced"}),
+    "ToiletPaperHanger": frozenset({"ToiletPaper"}),
+    "TowelHolder": frozenset({"Towel"}),
+    "HandTowelHolder": frozenset({"HandTowel"}),
+}
 
 # Number of `<Type>Sliced_<i>` pieces AI2-THOR spawns. Only their existence matters to goals and hazards,
 # so the counts are kept small and fixed; ids follow AI2-THOR (`Apple|x|y|z|AppleSliced_0`).

@@ -12,6 +12,9 @@ Instances (which objects exist, with which AI2-THOR ids):
    trajectory ids. A sink basin with no known faucet within 1 m gets a
    synthetic one at its pose (`Faucet|synthetic|<sink id>`): every AI2-THOR sink has one, and the faucet
    cleans the basin nearest to it (ALFRED).
+3c. A pan, pot or kettle standing on the stove top (near a known burner's height and within 0.6 m of it, but
+   not on it) gets a burner of its own at its pose: AI2-THOR stoves have several burners, the trajectories
+   name only those the expert used, and a burner holds one object.
 4. A vocabulary type listed in `scene.scene_objects` that still has no instance gets one synthetic
    instance `Type|synthetic` at the agent's start (there is then only one, so its position cannot change
    which instance `find` picks).
@@ -23,7 +26,8 @@ A. An object the expert picks up starts in the receptacle its `pickup_sources` e
    An empty source type means the object lay on no receptacle (the floor).
 B. Any other pickupable starts in the nearest receptacle within `PROXIMITY_M` of its pose, if one is;
    a small object prefers a pickupable receptacle (plate, pan, mug, ...) within reach over a fixed one; a
-   pickupable receptacle goes only in a fixed one, so containment stays acyclic. This is
+   pickupable receptacle goes only in a fixed one, so containment stays acyclic; an object-specific receptacle
+   (coffee machine, stove burner, toaster, ...) takes only its own types, one object at a time. This is
    what the trajectories rely on where they say nothing: a knife resting on a plate that the expert carries
    to the table, a potato lying in the sink basin that the expert slices in place.
 C. Everything else sits on an unnamed open surface: reachable by `find`, in no receptacle.
@@ -46,6 +50,7 @@ from talkdem.sim.affordances import (
     BASIN_OF,
     DIRTYABLE_TYPES,
     MUST_BE_OPEN_TYPES,
+    OBJECT_SPECIFIC_RECEPTACLES,
     SLICE_COUNT,
     STARTS_OPEN_TYPES,
     skill_type_of,
@@ -63,6 +68,9 @@ PROXIMITY_M = 0.3
 
 _ROUNDING_M = 0.02
 _FAUCET_REACH_M = 1.0
+_BURNER_HEIGHT_M = 0.1
+_STOVE_RADIUS_M = 0.6
+_ON_BURNER_M = 0.1
 
 
 def instance_id(object_type: str, x: float, y: float, z: float) -> str:
@@ -156,6 +164,7 @@ def _instances(task: SeedTask, pool: frozenset[str]) -> dict[str, ObjectSpec]:
                 position = _position_of_pose(scene, object_type, position)
         specs[oid] = _spec(oid, object_type, position)
     _add_missing_faucets(specs)
+    _add_missing_burners(specs)
     known_types = {spec.skill_type for spec in specs.values()}
     findable = set(categories().findable)
     for raw_type in scene.scene_objects:
@@ -180,6 +189,32 @@ def _add_missing_faucets(specs: dict[str, ObjectSpec]) -> None:
         if not any(math.dist(f, spec.position) <= _FAUCET_REACH_M for f in faucets):
             faucet_id = f"Faucet|synthetic|{whole_object_id(oid)}"
             specs[faucet_id] = _spec(faucet_id, "Faucet", spec.position)
+
+
+def _add_missing_burners(specs: dict[str, ObjectSpec]) -> None:
+    """Rule 3c: a pan, pot or kettle standing on the stove top stands on a burner of its own.
+
+    The trajectories name only the burners an expert used, but AI2-THOR stoves have several and a burner holds
+    one object (`ObjectSpecificReceptacle`). A stove-top object (within `_BURNER_HEIGHT_M` of a known burner's
+    height and `_STOVE_RADIUS_M` of it on the floor plane, but not on it) gets a burner at its pose.
+    """
+    burners = [s.position for s in specs.values() if s.object_type == "StoveBurner"]
+    if not burners:
+        return
+    for _, spec in sorted(specs.items()):
+        if spec.object_type not in OBJECT_SPECIFIC_RECEPTACLES["StoveBurner"]:
+            continue
+        x, y, z = spec.position
+        near = [
+            b
+            for b in burners
+            if abs(b[1] - y) <= _BURNER_HEIGHT_M and math.dist((b[0], b[2]), (x, z)) <= _STOVE_RADIUS_M
+        ]
+        if near and all(math.dist((b[0], b[2]), (x, z)) > _ON_BURNER_M for b in near):
+            position = (x, near[0][1], z)
+            burner_id = instance_id("StoveBurner", *position)
+            specs.setdefault(burner_id, _spec(burner_id, "StoveBurner", position))
+            burners.append(position)
 
 
 def _rounding_twin(specs: dict[str, ObjectSpec], object_type: str, position: tuple[float, float, float]) -> str | None:
@@ -228,19 +263,33 @@ def _placements(task: SeedTask, specs: dict[str, ObjectSpec]) -> tuple[dict[str,
     fixed = [r for r, s in specs.items() if s.receptacle and not s.pickupable and "Sliced" not in s.object_type]
     movable = [r for r, s in specs.items() if s.receptacle and s.pickupable]
     inferred: list[str] = []
+    occupied = set(parents.values())
     for oid, spec in sorted(specs.items()):
         if not spec.pickupable or oid in sourced or "Sliced" in spec.object_type or "synthetic" in oid:
             continue
         receptacle = None
         for candidates in ([] if spec.receptacle else movable, fixed):
-            near = [r for r in candidates if r != oid and math.dist(specs[r].position, spec.position) <= PROXIMITY_M]
+            near = [
+                r
+                for r in candidates
+                if r != oid
+                and math.dist(specs[r].position, spec.position) <= PROXIMITY_M
+                and _can_hold(specs[r].object_type, spec.object_type, r in occupied)
+            ]
             receptacle = _nearest(specs, near, spec.position)
             if receptacle is not None:
                 break
         if receptacle is not None:
             parents[oid] = receptacle
+            occupied.add(receptacle)
             inferred.append(oid)
     return parents, inferred
+
+
+def _can_hold(receptacle_type: str, object_type: str, occupied: bool) -> bool:
+    """An object-specific receptacle holds one object of its types; any other receptacle holds anything."""
+    allowed = OBJECT_SPECIFIC_RECEPTACLES.get(receptacle_type)
+    return allowed is None or (object_type in allowed and not occupied)
 
 
 def _build(task: SeedTask, pool: frozenset[str]) -> SimState:

@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from typing import Protocol
 
 from talkdem.seeds.records import SeedTask
-from talkdem.sim.actions import ACTIONS, FailureKind, StepFailure
+from talkdem.sim.actions import ACTIONS, FailureKind, StepFailure, drop_held, remember_destination
 from talkdem.sim.build import initial_state
 from talkdem.sim.goals import GoalReport, check_goals, goal_targets
 from talkdem.sim.hazards import HazardMonitor, HazardRule
@@ -54,14 +54,15 @@ def reference_exemptions(task: SeedTask) -> frozenset[HazardRule]:
 
 def _step(state: SimState, text: str, index: int) -> tuple[StepRecord, Skill | None]:
     skill = parse_skill(text)
+    remember_destination(state, skill)
     if skill is None:
         kind = FailureKind.NOT_SUPPORTED
         return StepRecord(index, text, None, False, NOT_SUPPORTED, kind, None, None, state.location), None
     rule = ACTIONS[skill.verb]
     outcome = rule.precondition(state, skill)
     if isinstance(outcome, StepFailure):
-        if rule.on_failure is not None:
-            rule.on_failure(state)
+        if outcome.drops_held:
+            drop_held(state)
         record = StepRecord(
             index,
             text,

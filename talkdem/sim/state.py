@@ -74,7 +74,10 @@ class SimState:
     agent: XZ
     """Agent position on the floor plane."""
     location: str | None = None
-    """The object the agent last went to with `find` (LoTa-Bench's current receptacle)."""
+    """The object the agent last went to with `find`."""
+    destination: str | None = None
+    """LoTa-Bench's `cur_receptacle`: the type the last `find` named (found or not), kept only while the skills
+    after it are `put down` or `open`; where `put down` puts. Skill-layer memory, not world state: not hashed."""
     held: str | None = None
     heated: set[str] = field(default_factory=set)
     cooled: set[str] = field(default_factory=set)
@@ -94,6 +97,7 @@ class SimState:
             moved=dict(self.moved),
             agent=self.agent,
             location=self.location,
+            destination=self.destination,
             held=self.held,
             heated=set(self.heated),
             cooled=set(self.cooled),

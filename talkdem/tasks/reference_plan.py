@@ -10,8 +10,11 @@ Rules (the simulator must accept every plan produced here):
   (a `find an apple` there could walk to another apple that was never cooled). "Inside" is decided per
   receptacle instance: an object put somewhere is inside that instance; an object's source receptacle is
   matched by type and floor position (ALFRED's recorded box), so a watch on another shelf is still found.
-- `put down` puts into the agent's location, so it is preceded by a `find` unless the destination itself
-  is the location (not merely a receptacle standing there).
+- `put down` puts into the receptacle type the last `find` named, and LoTa-Bench forgets that destination
+  after any skill other than `put down` and `open`; so a `put down` is preceded by a `find` of its
+  destination unless the destination is the location *and* only `put down`/`open` steps came since that
+  `find` (the expert who slices the apple in the open fridge and then puts the knife there walks back to
+  the fridge: `find a fridge` again).
 - Every interaction is kept, including a `close X` right before `open X`: closing the fridge is what cools
   its contents (ALFRED marks objects cooled when the fridge door closes on them).
 - The plan ends with `done`.
@@ -24,7 +27,7 @@ from dataclasses import dataclass
 from talkdem.seeds.records import SeedTask
 from talkdem.skills import Skill, SkillVerb, skill_texts
 
-__all__ = ["ReferencePlanError", "object_type_of", "reference_plan", "reference_skills"]
+__all__ = ["ReferencePlanError", "object_type_of", "reference_plan", "reference_skills", "reference_steps"]
 
 _VERB_OF_ACTION = {
     "PickupObject": SkillVerb.PICK_UP,
@@ -104,6 +107,12 @@ def _is_at(place: _Place | None, location: str) -> bool:
 
 def reference_skills(seed: SeedTask) -> list[Skill]:
     """The reference plan as `Skill` records (see the module docstring for the rules)."""
+    return [skill for skill, _ in reference_steps(seed)]
+
+
+def reference_steps(seed: SeedTask) -> list[tuple[Skill, str]]:
+    """Each skill of the reference plan with, for a `find`, the whole id of the instance the expert went to
+    (empty for other skills)."""
     # Where each object is, as far as the trajectory tells: its source receptacle, then wherever it was put.
     inside: dict[str, _Place] = {
         _whole_object_id(src.object_id): _source_place(src.receptacle_type, src.receptacle_bounds)
@@ -111,29 +120,35 @@ def reference_skills(seed: SeedTask) -> list[Skill]:
         if src.receptacle_type
     }
     location = ""  # whole id of the object last found
-    skills: list[Skill] = []
+    destination = ""  # the location while LoTa-Bench still remembers it as the put-down destination
+    skills: list[tuple[Skill, str]] = []
     for step, action in enumerate(seed.interactions):
         verb = _VERB_OF_ACTION[action.action]
         acted_on = action.receptacle_id if verb is SkillVerb.PUT_DOWN else action.object_id
         place = _whole_object_id(acted_on)
         # `put down` puts into wherever the agent is, so the destination itself must be the location;
         # other skills reach an object inside the location too (the apple in the open fridge).
-        reachable = place == location or (verb is not SkillVerb.PUT_DOWN and _is_at(inside.get(place), location))
+        if verb is SkillVerb.PUT_DOWN:
+            reachable = place == destination
+        else:
+            reachable = place == location or _is_at(inside.get(place), location)
         if not reachable:
-            skills.append(Skill(SkillVerb.FIND, object_type_of(acted_on)))
-            location = place
+            skills.append((Skill(SkillVerb.FIND, object_type_of(acted_on)), place))
+            location = destination = place
         skill = Skill(verb, object_type_of(action.object_id))
         if skill.text not in skill_texts():
             raise ReferencePlanError(
                 f"task {seed.task_id} ({seed.source_file}): interaction {step} {action.action} "
                 f"{action.object_id} maps to '{skill.text}', which is not in the skill vocabulary"
             )
-        skills.append(skill)
+        skills.append((skill, ""))
+        if verb not in (SkillVerb.PUT_DOWN, SkillVerb.OPEN):
+            destination = ""
         if verb is SkillVerb.PUT_DOWN:
             inside[_whole_object_id(action.object_id)] = _Place(object_type_of(place), instance=place)
         elif verb is SkillVerb.PICK_UP:
             inside.pop(place, None)
-    skills.append(Skill(SkillVerb.DONE))
+    skills.append((Skill(SkillVerb.DONE), ""))
     return skills
 
 

@@ -8,7 +8,7 @@ simulator, the planner, the metric) reads these files and never needs the ALFRED
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import StrEnum
 from functools import cache
 from pathlib import Path
@@ -16,7 +16,8 @@ from pathlib import Path
 from talkdem.paths import data_dir
 from talkdem.seeds.records import SeedTask
 from talkdem.serialization import from_jsonable, to_jsonable
-from talkdem.tasks.reference_plan import reference_plan
+from talkdem.tasks.expert_route import route_like_the_expert
+from talkdem.tasks.reference_plan import reference_plan, reference_steps
 
 __all__ = [
     "Task",
@@ -59,13 +60,29 @@ class UnknownTaskError(KeyError):
 
 
 def make_task(seed: SeedTask, task_set: TaskSet, fixture_ids: tuple[str, ...] = ()) -> Task:
+    """The task with its reference plan: the plain conversion, or, if that fails in the simulator because a
+    `find` reaches another instance than the expert's, the conversion routed past landmarks (`expert_route`)."""
     fields = {name: getattr(seed, name) for name in SeedTask.__dataclass_fields__}
-    return Task(
+    task = Task(
         **fields,
         task_set=task_set.value,
         reference_plan=tuple(reference_plan(seed)),
         scene_fixture_ids=tuple(sorted(fixture_ids)),
     )
+    if _runs_clean(task, task.reference_plan):
+        return task
+    routed = tuple(skill.text for skill in route_like_the_expert(task, reference_steps(seed)))
+    if routed != task.reference_plan and _runs_clean(task, routed):
+        return replace(task, reference_plan=routed)
+    return task
+
+
+def _runs_clean(task: Task, plan: tuple[str, ...]) -> bool:
+    """The plan reaches the goal and every step succeeds."""
+    from talkdem.sim import run_plan
+
+    trace = run_plan(task, plan)
+    return trace.success and all(step.ok for step in trace.steps)
 
 
 def task_file(task_set: TaskSet | str, folder: Path | None = None) -> Path:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from helpers import first_task
 
 from talkdem.sim import EndReason, FailureKind, initial_state, run_plan
+from talkdem.sim.affordances import OBJECT_SPECIFIC_RECEPTACLES
 from talkdem.skills import Skill, SkillVerb, categories, natural_name
 
 
@@ -64,13 +65,14 @@ def test_picking_up_with_full_hands_fails() -> None:
     assert second.failure is FailureKind.HANDS_FULL
 
 
-def test_slicing_without_a_knife_fails() -> None:
+def test_slicing_without_a_knife_succeeds_as_in_lota_bench() -> None:
+    # LoTa-Bench's `slice` sends SliceObject without looking at the hand (ALFRED's knife check is in a layer
+    # LoTa does not call), so the slice happens; the sliced-object goal still holds without the knife.
     task = first_task("pick_and_place_simple", sliced=True, plan_has="pick up the knife")
     plan = [s for s in task.reference_plan if s not in ("pick up the knife", "pick up the butter knife")]
     trace = run_plan(task, plan)
     slice_step = next(s for s in trace.steps if s.skill.startswith("slice"))
-    assert (slice_step.ok, slice_step.failure) == (False, FailureKind.SLICE_FAILED)
-    assert not trace.success
+    assert slice_step.ok, slice_step.message
 
 
 def test_look_at_without_turning_on_the_lamp_fails() -> None:
@@ -104,7 +106,9 @@ def test_the_wrong_destination_fails() -> None:
     task = first_task("pick_and_place_simple", sliced=False, plan_has="find a counter top")
     initial = initial_state(task)
     fixtures = {
-        s.skill_type for s in initial.specs.values() if s.receptacle and not s.pickupable and not s.must_be_open
+        s.skill_type
+        for s in initial.specs.values()
+        if s.receptacle and not s.pickupable and not s.must_be_open and s.object_type not in OBJECT_SPECIFIC_RECEPTACLES
     }
     wrong = next(t for t in sorted(fixtures) if t not in task.pddl_params.parent_target)
     plan = list(task.reference_plan)

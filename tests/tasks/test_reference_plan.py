@@ -49,7 +49,7 @@ def test_cool_episode_has_no_find_while_the_object_is_in_the_fridge(seed_pool: l
 
 def test_heat_sliced_episode(seed_pool: list[SeedTask]) -> None:
     seed = _by_file(seed_pool, "pick_heat_then_place_in_recep-AppleSliced-None-Fridge-11/trial_T20190909_060541")
-    assert reference_plan(seed)[:8] == [
+    assert reference_plan(seed)[:9] == [
         "find a butter knife",
         "pick up the butter knife",
         "find a fridge",
@@ -57,6 +57,8 @@ def test_heat_sliced_episode(seed_pool: list[SeedTask]) -> None:
         "slice the apple",  # the apple is in the open fridge: no find
         "close the fridge",
         "open the fridge",
+        # LoTa-Bench forgot the fridge as destination at `slice` and `close`: the expert walks back to it.
+        "find a fridge",
         "put down the butter knife",
     ]
 
