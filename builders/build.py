@@ -136,10 +136,13 @@ def _generate_verified(
     return [r for r in results if r is not None]
 
 
-def build_unit(generator: Generator, task: Task, base_seed: int) -> list[dict[str, Any]]:
-    """The 16 rows of one task: its clean control, then each pattern at levels 1-3."""
+def build_unit(
+    generator: Generator, task: Task, base_seed: int, patterns: Sequence[str] = PATTERN_CONFIGS
+) -> list[dict[str, Any]]:
+    """The 16 rows of one task: its clean control, then each pattern at levels 1-3 (`patterns` narrows
+    the patterns, for a quick check of a slow generator)."""
     ((clean, clean_check, clean_seed),) = _generate_verified(generator, [(task, CLEAN, 0, "")], base_seed)
-    variants = [(task, p, lvl, clean) for p in PATTERN_CONFIGS for lvl in LEVELS]
+    variants = [(task, p, lvl, clean) for p in patterns for lvl in LEVELS]
     generated = [(CLEAN, 0, clean, clean_check, clean_seed)] + [
         (p, lvl, text, check, seed)
         for (_, p, lvl, _), (text, check, seed) in zip(

@@ -36,8 +36,7 @@ def test_greedy_first_attempt_is_reproducible_and_regeneration_differs(generator
 @pytest.mark.slow
 def test_rows_record_the_model_and_their_verification(monkeypatch: pytest.MonkeyPatch, generator: LLMGenerator) -> None:
     # One pattern keeps the test short: the unit still runs the clean control, verification and regeneration.
-    monkeypatch.setattr("builders.build._patterns", lambda: ("topic_drift",))
-    rows = build_unit(generator, get_task(POTATO), base_seed=0)
+    rows = build_unit(generator, get_task(POTATO), base_seed=0, patterns=("topic_drift",))
     assert [(r["pattern"], r["level"]) for r in rows] == [
         ("clean", 0),
         ("topic_drift", 1),
