@@ -19,7 +19,7 @@ from builders.selection.maxmin import greedy_max_min, mean_pairwise_similarity, 
 from talkdem.paths import data_dir
 from talkdem.seeds.records import SeedTask
 from talkdem.sim import run_plan
-from talkdem.sim.build import fixture_pool
+from talkdem.sim.initial_state import fixture_pool
 from talkdem.tasks import Task, TaskSet, make_task, reference_plan, task_file, write_tasks
 
 __all__ = [

@@ -16,7 +16,11 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("--alfred-dir", help="ALFRED json_2.1.0 folder (default: $TALKDEM_ALFRED_DIR or the seed pool)")
     parser.add_argument("--floorplans-dir", help="folder of FloorPlan<N>-objects.json / -openable.json")
-    parser.add_argument("--write", action="store_true", help="write data/tasks/*.jsonl and data/selection/")
+    parser.add_argument(
+        "--write",
+        action="store_true",
+        help="write data/tasks/*.jsonl, data/selection/ and the planner's worked examples (data/prompts/)",
+    )
     parser.add_argument("--saved", action="store_true", help="print the saved table without recomputing")
     parser.set_defaults(handler=run)
 
@@ -42,8 +46,12 @@ def run(args: argparse.Namespace) -> int:
         f"selected {len(selection.benchmark)} benchmark + {len(selection.memory)} memory tasks"
     )
     if args.write:
+        from builders.planner_examples import write_examples
+
         for path in write_selection(selection):
             print(f"wrote {path}")
+        # The worked examples come from trials in neither task set, so they follow the selection.
+        print(f"wrote {write_examples(seeds)}")
         return 0
     try:
         saved = {s.value: [t.task_id for t in load_tasks(s)] for s in TaskSet}

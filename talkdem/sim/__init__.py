@@ -6,10 +6,10 @@ AI2-THOR build when one is installed. Importing this package never loads torch o
 
 from talkdem.sim.actions import ACTIONS, FailureKind, StepFailure
 from talkdem.sim.ai2thor_backend import AI2ThorExecutor, AI2ThorUnavailableError, ThorAction, translate_skill
-from talkdem.sim.build import initial_state
 from talkdem.sim.executor import DEFAULT_MAX_STEPS, Episode, PlanExecutor, SymbolicExecutor, run_plan
 from talkdem.sim.goals import GoalCondition, GoalReport, check_goals
 from talkdem.sim.hazards import Hazard, HazardCategory, HazardRule
+from talkdem.sim.initial_state import initial_state
 from talkdem.sim.parser import parse_skill
 from talkdem.sim.state import ObjectSpec, SimState
 from talkdem.sim.trace import EndReason, EpisodeTrace, PlanAnalysis, StepRecord

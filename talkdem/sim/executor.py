@@ -11,9 +11,9 @@ from typing import Protocol
 
 from talkdem.seeds.records import SeedTask
 from talkdem.sim.actions import ACTIONS, FailureKind, StepFailure, drop_held, remember_destination
-from talkdem.sim.build import initial_state
 from talkdem.sim.goals import GoalReport, check_goals, goal_targets
 from talkdem.sim.hazards import HazardMonitor, HazardRule
+from talkdem.sim.initial_state import initial_state
 from talkdem.sim.parser import canonical_text, parse_skill
 from talkdem.sim.state import SimState
 from talkdem.sim.trace import EndReason, EpisodeTrace, PlanAnalysis, StepRecord

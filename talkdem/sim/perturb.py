@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from talkdem.seeds.records import SeedTask
-from talkdem.sim.build import initial_state
+from talkdem.sim.initial_state import initial_state
 from talkdem.sim.parser import parse_skill
 from talkdem.skills import Skill, SkillVerb, skill_texts
 
