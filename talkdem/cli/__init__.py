@@ -11,11 +11,25 @@ import sys
 from collections.abc import Sequence
 
 from talkdem import __version__
-from talkdem.cli import build, demo, leaderboard, markers, push, report, run, score, select, simulate, tasks, verify
+from talkdem.cli import (
+    build,
+    demo,
+    leaderboard,
+    markers,
+    models,
+    push,
+    report,
+    run,
+    score,
+    select,
+    simulate,
+    tasks,
+    verify,
+)
 
 __all__ = ["build_parser", "main"]
 
-_COMMANDS = (tasks, select, simulate, demo, build, verify, markers, push, run, score, report, leaderboard)
+_COMMANDS = (tasks, select, simulate, demo, build, verify, markers, push, run, score, report, leaderboard, models)
 
 
 def build_parser() -> argparse.ArgumentParser:
