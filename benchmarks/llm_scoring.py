@@ -1,4 +1,4 @@
-"""SayCan step time on the default model (SmolLM2-135M, CPU): fast scorer vs naive scorer, and CARE's retrieval.
+"""Scoring every skill on the transformers backend (SmolLM2-135M, CPU): packed scorer vs naive scorer.
 
 Per SayCan step every one of the 214 vocabulary skills is scored given a real planner prompt (a benchmark
 task's instruction with the six task-type examples). Measured side by side in one run:
@@ -6,8 +6,8 @@ task's instruction with the six task-type examples). Measured side by side in on
 - fast, next step: the prompt plus one executed step (a few new tokens over the cached prefix);
 - naive: one full forward pass of prompt + skill per candidate, timed on a spread sample and extrapolated
   to 214 (a full naive step takes minutes).
-The same comparison runs on the llama.cpp backend when llama-cpp-python is installed (`.[llamacpp]`).
-CARE: embed the 1,600-item memory bank and retrieve k=3 items for each of the 4,800 instructions.
+The default model on llama.cpp (branch and bound vs full scoring) is in `saycan_choice`; CARE's retrieval
+in `care_retrieval`.
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ def _hf_scoring(skills: list[str]) -> None:
     from talkdem.llm.hf import HFCausalLM
 
     load = time.perf_counter()
-    model = HFCausalLM("default", threads=THREADS)
+    model = HFCausalLM("smollm2-135m-instruct", threads=THREADS)
     prompt, next_prompt = _planner_prompt(model)
     print(
         f"hf (transformers, fp32, {THREADS} threads): loaded in {time.perf_counter() - load:.1f} s; "
@@ -74,43 +74,6 @@ def _hf_scoring(skills: list[str]) -> None:
     )
 
 
-def _llamacpp_scoring(skills: list[str]) -> None:
-    try:
-        from talkdem.llm.llamacpp import LlamaCppLM
-
-        model = LlamaCppLM("default", threads=THREADS)
-    except ImportError as error:
-        print(f"llamacpp: skipped ({error})")
-        return
-    prompt, next_prompt = _planner_prompt(model)
-    print(f"llamacpp (Q4_1 GGUF, {THREADS} threads): prompt {len(model.context_ids(prompt))} tokens")
-    fast, naive = model.score_continuations, model.naive_score_continuations
-    _compare("llamacpp", fast, naive, prompt, next_prompt, skills, NAIVE_SAMPLE // 2)
-
-
-def _care() -> None:
-    from builders.selection.encoder import _model, encode
-    from care.retrieval import top_k
-    from talkdem.instructions import load_instructions, load_memory_bank
-
-    memory = load_memory_bank()
-    instructions = load_instructions()
-    load = _timed(_model)
-    start = time.perf_counter()
-    memory_vectors = encode([item.instruction for item in memory])
-    embedded = time.perf_counter()
-    queries = encode([instruction.text for instruction in instructions])
-    queried = time.perf_counter()
-    retrieved = top_k(queries, memory_vectors, 3)
-    end = time.perf_counter()
-    assert len(retrieved) == len(instructions)
-    print(
-        f"care: {len(memory)} memory items embedded in {embedded - start:.1f} s, {len(instructions)} instructions "
-        f"embedded in {queried - embedded:.1f} s, top-3 retrieval in {end - queried:.2f} s; "
-        f"total {end - start:.1f} s (encoder load {load:.1f} s, not counted)"
-    )
-
-
 def main() -> None:
     os.environ.setdefault("HF_HUB_OFFLINE", "1")
     os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
@@ -118,8 +81,6 @@ def main() -> None:
 
     skills = [skill.text for skill in vocabulary()]
     _hf_scoring(skills)
-    _llamacpp_scoring(skills)
-    _care()
 
 
 if __name__ == "__main__":

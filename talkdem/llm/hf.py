@@ -13,7 +13,8 @@ from pathlib import Path
 from typing import Any
 
 from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
-from talkdem.llm.default_model import DEFAULT_MODEL_NAME, default_model_path
+from talkdem.llm.branch_bound import BestContinuation
+from talkdem.llm.models import get_model, model_path
 from talkdem.llm.prefix_scorer import PrefixCachedScorer, naive_scores
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 from talkdem.paths import cache_dir
@@ -22,8 +23,9 @@ __all__ = ["HFCausalLM"]
 
 
 def _resolve(model: str) -> Path | str:
-    if model in (DEFAULT_MODEL_NAME, "default"):
-        return default_model_path()
+    spec = get_model(model)
+    if spec is not None:
+        return model_path(spec.name)
     path = Path(model).expanduser()
     return path if path.exists() else model
 
@@ -50,7 +52,8 @@ class HFCausalLM(LanguageModel):
         self.device = device
         torch_dtype = getattr(torch, dtype)
         if isinstance(source, Path) and source.suffix == ".gguf":
-            revision = file_sha256(source)
+            catalog = get_model(model)
+            revision = catalog.sha256 if catalog is not None else file_sha256(source)
             self.model, self.tokenizer = _load_gguf(source, revision, torch_dtype)
         else:
             from transformers import AutoModelForCausalLM, AutoTokenizer
@@ -60,7 +63,8 @@ class HFCausalLM(LanguageModel):
             self.model = AutoModelForCausalLM.from_pretrained(str(source), dtype=torch_dtype)
         self.model.to(device)
         self.model.eval()
-        name = DEFAULT_MODEL_NAME if model in (DEFAULT_MODEL_NAME, "default") else str(source)
+        spec = get_model(model)
+        name = spec.name if spec is not None else str(source)
         self.identity = ModelIdentity(backend="hf", name=name, revision=revision)
         self.use_chat_template = chat_template and bool(getattr(self.tokenizer, "chat_template", None))
         self.scorer = PrefixCachedScorer(self.model, max_packed_tokens=max_packed_tokens)
@@ -82,6 +86,10 @@ class HFCausalLM(LanguageModel):
     def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
         """Fast path: every continuation of one context in one packed pass over the cached prefix."""
         return self.scorer.score(self._context_ids(context), [self.encode(c) for c in continuations])
+
+    def best_continuation(self, context: str, continuations: Sequence[str]) -> BestContinuation:
+        """Fast path for SayCan's sum scoring: only the winner, exactly, by branch and bound."""
+        return self.scorer.best(self._context_ids(context), [self.encode(c) for c in continuations])
 
     def naive_score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
         """Reference path: one full forward pass per continuation."""

@@ -11,6 +11,9 @@ token such as SmolLM2. Scoring many continuations of one context (SayCan's inner
    " pick up the"): for each one the context is cut back (`n_tokens`) to the prompt plus the part shared
    with the previous candidate, and only the candidate's remaining tokens are evaluated. Its last token
    never needs a pass (its probability comes from the position before it).
+3. When only the best candidate under sum scoring is wanted (SayCan's default), `best_continuation` finds it
+   exactly by branch and bound over the candidates' token trie (`talkdem.llm.branch_bound`), running only
+   the prefixes that score above the winner.
 """
 
 from __future__ import annotations
@@ -24,7 +27,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
-from talkdem.llm.default_model import DEFAULT_MODEL_NAME, default_model_path
+from talkdem.llm.branch_bound import BestContinuation, best_continuation
+from talkdem.llm.models import get_model, model_path
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
 __all__ = ["LlamaCppLM"]
@@ -37,13 +41,17 @@ _MISSING = (
 _GGML_TYPE_F32 = 0  # ggml_type enum value of float32
 
 
-def _resolve(model: str) -> tuple[Path, str]:
-    if model in (DEFAULT_MODEL_NAME, "default"):
-        return default_model_path(), DEFAULT_MODEL_NAME
+def _resolve(model: str) -> tuple[Path, str, str]:
+    """(file, name, SHA-256): a catalog model by short name (verified when joined), or any GGUF file."""
+    spec = get_model(model)
+    if spec is not None:
+        return model_path(spec.name), spec.name, spec.sha256
     path = Path(model).expanduser()
     if not path.is_file():
-        raise FileNotFoundError(f"{model}: the llamacpp backend needs a GGUF file (or 'default')")
-    return path, str(path)
+        raise FileNotFoundError(
+            f"{model}: the llamacpp backend needs a GGUF file or a model name (`talkdem models` lists them)"
+        )
+    return path, str(path), file_sha256(path)
 
 
 def _log_softmax(logits: NDArray[np.float32]) -> NDArray[np.float64]:
@@ -72,7 +80,7 @@ class LlamaCppLM(LanguageModel):
     """A GGUF model run by llama.cpp in this process.
 
     Args:
-        model: a GGUF file, or `default` for the embedded SmolLM2-135M-Instruct.
+        model: a GGUF file, or a model's short name (`talkdem models`; `default`: Qwen2.5-Coder-0.5B-Instruct).
         n_ctx: context length in tokens; the logits of every position are kept (n_ctx x vocabulary floats).
         threads: CPU threads (llama.cpp's default when None).
         chat_template: wrap generation prompts in the GGUF's chat template when it has one.
@@ -98,7 +106,7 @@ class LlamaCppLM(LanguageModel):
             from llama_cpp import Llama
         except ImportError as error:
             raise ImportError(_MISSING) from error
-        path, name = _resolve(model)
+        path, name, sha256 = _resolve(model)
         self.path = path
         self._llm: Any = Llama(
             model_path=str(path),
@@ -113,9 +121,34 @@ class LlamaCppLM(LanguageModel):
             type_v=_GGML_TYPE_F32 if f32_kv_cache else None,
             verbose=False,
         )
-        self.identity = ModelIdentity(backend="llamacpp", name=name, revision=file_sha256(path))
+        self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256)
         self.use_chat_template = chat_template and bool(self._llm.metadata.get("tokenizer.chat_template"))
         self._next_logprobs: NDArray[np.float64] | None = None
+        self.tokens_evaluated = 0
+        """Tokens run through the model so far (context and candidates): what `make bench` compares."""
+
+    def forget_context(self) -> None:
+        """Drop the held context: the next call runs its prompt from scratch (as a new process would)."""
+        self._llm.reset()
+        self._next_logprobs = None
+
+    def _eval_tail(self, context: Sequence[int], path: Sequence[int], common: int) -> None:
+        """Hold context + path, running `path[common:]` (the context and `path[:common]` are still held).
+
+        llama.cpp computes a one-token batch with other kernels than a longer one: measured on SmolLM2 Q4_1,
+        a SayCan candidate scored 0.16 nats apart, while batches of two or more tokens agree with one
+        from-scratch pass to 1e-14 however they are split. So a single new token runs together with the one
+        before it (about the same cost on a CPU), and every score is the from-scratch score.
+        """
+        start = len(context) + common
+        if len(path) - common == 1:
+            start -= 1
+        self._llm.n_tokens = start
+        self._eval([*context, *path][start:])
+
+    def _eval(self, tokens: Sequence[int]) -> None:
+        self.tokens_evaluated += len(tokens)
+        self._llm.eval(list(tokens))
 
     # -- tokenization, done once and centrally -------------------------------------------------------
     def encode(self, text: str) -> list[int]:
@@ -136,13 +169,35 @@ class LlamaCppLM(LanguageModel):
         held = llm.input_ids[: llm.n_tokens].tolist()
         if held == list(ids) and self._next_logprobs is not None:
             return self._next_logprobs
-        # Keep at least one token to evaluate, so that the last position's logits are fresh.
-        keep = min(_common_prefix(held, ids), len(ids) - 1)
+        # Keep at least one token to evaluate, so that the last position's logits are fresh; two when there are
+        # two, so that the batch is never a single token (see `_eval_tail`).
+        keep = min(_common_prefix(held, ids), max(len(ids) - 2, 0))
         llm.n_tokens = keep
         self._next_logprobs = None
-        llm.eval(list(ids[keep:]))
-        self._next_logprobs = _log_softmax(llm.scores[len(ids) - 1])
+        self._next_logprobs = _log_softmax(self._eval_last_row(ids[keep:]))
         return self._next_logprobs
+
+    def _eval_last_row(self, tokens: Sequence[int]) -> NDArray[np.float32]:
+        """Like `Llama.eval`, but asks llama.cpp for the last position's logits only.
+
+        With `logits_all=True`, `Llama.eval` computes and copies a vocabulary-sized row for every prompt token,
+        which for a 600-token prompt and Qwen's 152k vocabulary is a quarter of the compute and 370 MB of
+        copying; only the last row is needed for the context. This uses llama-cpp-python's batch and context
+        wrappers (the same calls `Llama.eval` makes) with the logits flag on the last token only.
+        """
+        llm = self._llm
+        self.tokens_evaluated += len(tokens)
+        llm._ctx.kv_cache_seq_rm(-1, llm.n_tokens, -1)
+        for start in range(0, len(tokens), llm.n_batch):
+            batch = list(tokens[start : start + llm.n_batch])
+            n_past = llm.n_tokens
+            llm._batch.set_batch(batch=batch, n_past=n_past, logits_all=False)
+            llm._ctx.decode(llm._batch)
+            llm.input_ids[n_past : n_past + len(batch)] = batch
+            llm.n_tokens += len(batch)
+        row = np.ctypeslib.as_array(llm._ctx.get_logits(), shape=(llm.n_vocab(),)).copy()
+        llm.scores[llm.n_tokens - 1, :] = row  # the other rows of the context are not read again
+        return row
 
     def _check_fits(self, context_length: int, continuations: Sequence[Sequence[int]]) -> None:
         longest = max((len(c) for c in continuations), default=0)
@@ -154,8 +209,13 @@ class LlamaCppLM(LanguageModel):
         if any(len(c) == 0 for c in continuations):
             raise ValueError("every continuation must have at least one token")
 
-    def score_token_continuations(self, context: Sequence[int], continuations: Sequence[Sequence[int]]) -> list[float]:
-        """Summed log p(continuation | context) per continuation, all given as token ids."""
+    def score_token_continuations(
+        self, context: Sequence[int], continuations: Sequence[Sequence[int]], share_prefixes: bool = True
+    ) -> list[float]:
+        """Summed log p(continuation | context) per continuation, all given as token ids.
+
+        `share_prefixes=False` runs every candidate's tokens on their own after the context (for comparison).
+        """
         self._check_fits(len(context), continuations)
         first = self._advance_to(context)
         llm, prefix = self._llm, len(context)
@@ -167,10 +227,9 @@ class LlamaCppLM(LanguageModel):
             path = continuation[:-1]
             if not path:
                 continue
-            common = _common_prefix(held, path)
+            common = _common_prefix(held, path) if share_prefixes else 0
             if common < len(path):
-                llm.n_tokens = prefix + common
-                llm.eval(path[common:])
+                self._eval_tail(context, path, common)
                 held = path
                 for row in [r for r in normalizers if r >= prefix + common]:
                     del normalizers[row]
@@ -181,6 +240,27 @@ class LlamaCppLM(LanguageModel):
                 scores[index] += float(llm.scores[row, continuation[j + 1]]) - normalizers[row]
         llm.n_tokens = prefix  # the candidates are gone; the context stays for the next call
         return scores
+
+    def best_token_continuation(
+        self, context: Sequence[int], continuations: Sequence[Sequence[int]]
+    ) -> BestContinuation:
+        """The continuation with the highest summed log-probability, by branch and bound (exact)."""
+        self._check_fits(len(context), continuations)
+        first = self._advance_to(context)
+        llm, prefix = self._llm, len(context)
+
+        def evaluate(path: Sequence[int], keep: int) -> list[NDArray[np.float64]]:
+            self._eval_tail(context, path, keep)
+            return [_log_softmax(llm.scores[prefix + j]) for j in range(keep, len(path))]
+
+        try:
+            return best_continuation(first, continuations, evaluate)
+        finally:
+            llm.n_tokens = prefix  # the candidates are gone; the context stays for the next call
+
+    def best_continuation(self, context: str, continuations: Sequence[str]) -> BestContinuation:
+        """Fast path for SayCan's sum scoring: only the winner, exactly, scoring a fraction of the tokens."""
+        return self.best_token_continuation(self.context_ids(context), [self.encode(c) for c in continuations])
 
     def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
         """Fast path: the context once (over the previous call's shared prefix), then each candidate's tail."""
@@ -195,7 +275,7 @@ class LlamaCppLM(LanguageModel):
         scores = []
         for continuation in token_continuations:
             llm.reset()
-            llm.eval(context_ids + continuation)
+            self._eval(context_ids + continuation)
             scores.append(
                 sum(float(_log_softmax(llm.scores[prefix - 1 + j])[token]) for j, token in enumerate(continuation))
             )

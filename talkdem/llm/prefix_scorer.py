@@ -11,6 +11,9 @@ full forward pass of prompt + skill per candidate. Here:
    a block attention mask (each trie node sees the prefix and its own ancestors) and position ids that
    continue from the prefix length along each branch. The cache is then cut back to the prefix.
 
+3. When only the best candidate under sum scoring is wanted, `best` finds it exactly by branch and bound over
+   the same trie (`talkdem.llm.branch_bound`), running one path at a time over the cached prefix.
+
 `naive_scores` is the reference implementation the tests compare against.
 """
 
@@ -20,7 +23,11 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
 import torch
+from numpy.typing import NDArray
+
+from talkdem.llm.branch_bound import BestContinuation, best_continuation
 
 __all__ = ["PrefixCachedScorer", "naive_scores"]
 
@@ -136,6 +143,28 @@ class PrefixCachedScorer:
         )
         _crop(self._cache, prefix_length)
         return torch.log_softmax(out.logits[0].float(), dim=-1)
+
+    @torch.no_grad()
+    def best(self, context_ids: Sequence[int], continuations: Sequence[Sequence[int]]) -> BestContinuation:
+        """The continuation with the highest summed log-probability, by branch and bound (exact)."""
+        first = self._advance_to(context_ids).double().numpy()
+        prefix_length = len(context_ids)
+
+        def evaluate(path: Sequence[int], keep: int) -> list[NDArray[np.float64]]:
+            _crop(self._cache, prefix_length + keep)
+            out = self.model(
+                input_ids=torch.tensor([list(path[keep:])]),
+                position_ids=torch.arange(prefix_length + keep, prefix_length + len(path))[None],
+                past_key_values=self._cache,
+                use_cache=True,
+            )
+            rows = torch.log_softmax(out.logits[0].double(), dim=-1).numpy()
+            return list(rows)
+
+        try:
+            return best_continuation(first, continuations, evaluate)
+        finally:
+            _crop(self._cache, prefix_length)
 
     def score(self, context_ids: Sequence[int], continuations: Sequence[Sequence[int]]) -> list[float]:
         """Summed log p(continuation | context) for each continuation (token ids, each non-empty)."""

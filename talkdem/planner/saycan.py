@@ -4,6 +4,9 @@ one is executed.
 Decisions (the paper follows LoTa-Bench / REI-Bench's SayCan setup, which scores skills by log-likelihood
 and executes them in the simulator):
 - Scoring: the sum of the skill's token log-probabilities (default) or their mean (`scoring="mean"`).
+  Under sum scoring a backend that offers `best_continuation` (llama.cpp, transformers) finds the winner
+  exactly by branch and bound over the skills' token trie, without scoring every skill in full; mean
+  scoring, and `log_top` (which logs the best skills of every step), score every skill.
 - Simulator feedback: the prompt only ever shows the skills chosen so far (as in LoTa-Bench); a skill that
   just failed is not offered again until a step succeeds (`mask_failed=True`). This stands in for SayCan's
   affordance function and keeps a deterministic planner from repeating the same failing step until the
@@ -16,6 +19,7 @@ and executes them in the simulator):
 from __future__ import annotations
 
 import difflib
+import logging
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -32,6 +36,8 @@ from talkdem.skills import vocabulary
 
 __all__ = ["PlanResult", "SayCanConfig", "SayCanPlanner", "nearest_skill"]
 
+_log = logging.getLogger(__name__)
+
 
 @dataclass(frozen=True)
 class SayCanConfig:
@@ -39,6 +45,8 @@ class SayCanConfig:
     scoring: Literal["sum", "mean"] = "sum"
     mask_failed: bool = True
     mode: Literal["scoring", "generative"] = "scoring"
+    log_top: int = 0
+    """When > 0, score every skill at every step and log (and keep in the result) the best `log_top`."""
 
     @property
     def planner_name(self) -> str:
@@ -57,6 +65,8 @@ class PlanResult:
     planning_seconds: float
     generated: tuple[str, ...] = field(default=())
     """Generative mode: the raw text written at each step."""
+    top_candidates: tuple[tuple[tuple[str, float], ...], ...] = field(default=())
+    """With `log_top`: the best skills and their scores at each step."""
 
 
 def nearest_skill(text: str, skills: Sequence[str]) -> tuple[str, float]:
@@ -81,6 +91,7 @@ class SayCanPlanner:
         self.config = config or SayCanConfig()
         self.examples = tuple(examples if examples is not None else task_type_examples())
         self.skills = [skill.text for skill in vocabulary()]
+        self._top: list[tuple[tuple[str, float], ...]] = []
         if self.config.mode == "scoring" and not model.supports_loglikelihood:
             raise ValueError(
                 f"{model.identity.key()} gives no prompt log-likelihoods (a chat endpoint): "
@@ -116,14 +127,23 @@ class SayCanPlanner:
             text = self.model.generate([GenerateRequest(context + " ", max_new_tokens=16, stop=(",", "\n"))])[0]
             skill, similarity = nearest_skill(text, candidates)
             return skill, similarity, text
+        search = getattr(self.model, "best_continuation", None)
+        if self.config.scoring == "sum" and not self.config.log_top and search is not None:
+            found = search(context, [" " + c for c in candidates])  # exact: the same skill as full scoring
+            return candidates[found.index], found.score, ""
         scores = self._scores(context, candidates)
         best = max(range(len(candidates)), key=lambda i: (scores[i], -i))  # ties: the earlier skill
+        if self.config.log_top:
+            ranked = sorted(range(len(candidates)), key=lambda i: (-scores[i], i))[: self.config.log_top]
+            self._top.append(tuple((candidates[i], scores[i]) for i in ranked))
+            _log.info("step %d: %s", len(self._top), ", ".join(f"{candidates[i]} {scores[i]:.3f}" for i in ranked))
         return candidates[best], scores[best], ""
 
     def plan(self, task: SeedTask, planner_input: PlannerInput) -> PlanResult:
         start = time.perf_counter()
         prompt = self.prompt_for(planner_input)
         context, plan, step_scores, generated = prompt, [], [], []
+        self._top = []
         blocked: set[str] = set()
         for step in range(1, self.config.max_steps + 1):
             skill, score, text = self._choose(context, blocked)
@@ -147,4 +167,5 @@ class SayCanPlanner:
             trace=trace,
             planning_seconds=seconds,
             generated=tuple(generated) if self.config.mode == "generative" else (),
+            top_candidates=tuple(self._top),
         )

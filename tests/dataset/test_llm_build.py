@@ -18,7 +18,7 @@ POTATO = "trial_T20190909_152050_792044"
 
 @pytest.fixture(scope="module")
 def generator() -> LLMGenerator:
-    return LLMGenerator(HFCausalLM("default", threads=2), max_new_tokens=40)
+    return LLMGenerator(HFCausalLM("smollm2-135m-instruct", threads=2), max_new_tokens=40)
 
 
 @pytest.mark.slow

@@ -24,12 +24,12 @@ SAMPLE = SKILLS[::54]  # 4 candidates across the verbs: the naive scorer runs th
 
 @pytest.fixture(scope="module")
 def llama() -> LlamaCppLM:
-    return LlamaCppLM("default", threads=2)
+    return LlamaCppLM("smollm2-135m-instruct", threads=2)
 
 
 @pytest.fixture(scope="module")
 def hf() -> HFCausalLM:
-    return HFCausalLM("default", threads=2)
+    return HFCausalLM("smollm2-135m-instruct", threads=2)
 
 
 @pytest.fixture(scope="module")
@@ -77,7 +77,7 @@ def test_reused_prefix_gives_fresh_scores(llama: LlamaCppLM, saycan_prompt: str)
     # A different earlier context forces the context to roll back to the shared part.
     llama.score_continuations(saycan_prompt.replace("Robot:", "Robot :", 1), SAMPLE)
     again = llama.score_continuations(stepped_context, SAMPLE)
-    fresh = LlamaCppLM("default", threads=2).score_continuations(stepped_context, SAMPLE)
+    fresh = LlamaCppLM("smollm2-135m-instruct", threads=2).score_continuations(stepped_context, SAMPLE)
     assert stepped == pytest.approx(fresh, abs=1e-3)
     assert again == pytest.approx(fresh, abs=1e-3)
 

@@ -19,7 +19,7 @@ from typing import Any
 
 import pytest
 
-from talkdem.llm.default_model import default_model_path
+from talkdem.llm.models import FAST_TEST_MODEL, model_path
 from talkdem.llm.openai_compat import EndpointError, LoglikelihoodUnsupportedError, OpenAICompatibleLM
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 from talkdem.planner import PlannerInput, SayCanConfig, SayCanPlanner
@@ -87,7 +87,7 @@ class LlamaServer:
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[LlamaServer]:
-    running = LlamaServer(default_model_path(), _free_port(), tmp_path_factory.mktemp("server") / "server.log")
+    running = LlamaServer(model_path(FAST_TEST_MODEL), _free_port(), tmp_path_factory.mktemp("server") / "server.log")
     running.start()
     try:
         running.wait_ready()

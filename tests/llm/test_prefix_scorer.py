@@ -33,7 +33,7 @@ def test_trie_shares_common_beginnings() -> None:
 
 @pytest.fixture(scope="module")
 def smollm() -> HFCausalLM:
-    return HFCausalLM("default", threads=2)
+    return HFCausalLM("smollm2-135m-instruct", threads=2)
 
 
 @pytest.mark.slow
