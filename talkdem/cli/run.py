@@ -42,8 +42,18 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--log-top", type=non_negative_int, default=0, metavar="N", help="score every skill and log the best N per step"
     )
+    parser.add_argument(
+        "--cache",
+        type=Path,
+        metavar="FILE",
+        help="SQLite result cache keyed by model identity: a rerun or another strategy reuses computed scores",
+    )
     parser.add_argument("--no-progress", action="store_true")
     parser.set_defaults(handler=run)
+
+
+# Options that mean something to some backends only: given to another backend they would be silently ignored.
+_BACKEND_OPTIONS = {"base_url": ("openai",), "threads": ("hf", "llamacpp")}
 
 
 def run(args: argparse.Namespace) -> int:
@@ -56,12 +66,18 @@ def run(args: argparse.Namespace) -> int:
 
     conditions = parse_conditions(args.conditions)
     episodes = select_episodes(conditions, args.limit)
-    options: dict[str, Any] = {}
-    if args.base_url:
-        options["base_url"] = args.base_url
-    if args.threads:
-        options["threads"] = args.threads
+    options = {name: getattr(args, name) for name in _BACKEND_OPTIONS if getattr(args, name) is not None}
+    for name in options:
+        if args.backend not in _BACKEND_OPTIONS[name]:
+            flag = "--" + name.replace("_", "-")
+            raise ValueError(
+                f"{flag} applies to the {' and '.join(_BACKEND_OPTIONS[name])} backend(s), not {args.backend}"
+            )
     model = load_model(args.backend, args.model, **options)
+    if args.cache is not None:
+        from talkdem.llm.cache import CachedLM
+
+        model = CachedLM(model, args.cache)
     strategy = load_strategy(args.strategy)
     config = SayCanConfig(
         max_steps=args.max_steps,

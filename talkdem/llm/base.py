@@ -10,7 +10,14 @@ from pathlib import Path
 
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
-__all__ = ["LanguageModel", "ModelIdentity", "cut_at_stop", "file_sha256", "loglikelihood_by_context"]
+__all__ = [
+    "BestContinuation",
+    "LanguageModel",
+    "ModelIdentity",
+    "cut_at_stop",
+    "file_sha256",
+    "loglikelihood_by_context",
+]
 
 
 @dataclass(frozen=True)
@@ -27,8 +34,27 @@ class ModelIdentity:
         return f"{self.backend}:{self.name}@{self.revision}"
 
 
+@dataclass(frozen=True)
+class BestContinuation:
+    """The winner of one SayCan step under sum scoring."""
+
+    index: int
+    """Position of the winning continuation in the input."""
+    score: float
+    """Its summed log-probability (nats)."""
+    tokens_evaluated: int = 0
+    """Candidate tokens run through the model (0: not counted, every candidate was scored in full)."""
+    expansions: int = 0
+    """Trie nodes whose next-token distribution was needed (branch and bound; 0 otherwise)."""
+
+
 class LanguageModel(ABC):
-    """A backend answers batches of requests; the planner never talks to a model any other way."""
+    """A backend answers batches of requests; the planner never talks to a model any other way.
+
+    A backend implements `loglikelihood` and `generate`. The planner's three scoring calls below have
+    defaults built on `loglikelihood`; a backend overrides them when it can do better (one pass over a
+    shared prefix, an exact branch-and-bound search, a real tokenizer), and must give the same answers.
+    """
 
     identity: ModelIdentity
     supports_loglikelihood: bool = True
@@ -41,6 +67,21 @@ class LanguageModel(ABC):
     @abstractmethod
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
         """Greedy completions, one per request, cut at the request's stop strings."""
+
+    def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
+        """Summed log-probability of each continuation after `context` (one SayCan step, every skill)."""
+        return self.loglikelihood([LoglikelihoodRequest(context, c) for c in continuations])
+
+    def best_continuation(self, context: str, continuations: Sequence[str]) -> BestContinuation:
+        """The continuation with the highest summed log-probability; ties go to the earlier one."""
+        scores = self.score_continuations(context, continuations)
+        best = max(range(len(scores)), key=lambda i: (scores[i], -i))
+        return BestContinuation(best, scores[best])
+
+    def token_count(self, text: str) -> int:
+        """Tokens in `text`, the divisor of mean scoring. Backends with a tokenizer count tokens; this
+        default counts whitespace-separated words (an approximation for tokenizer-less endpoints)."""
+        return len(text.split())
 
 
 def loglikelihood_by_context(

@@ -22,23 +22,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from talkdem.llm.base import BestContinuation
+
 __all__ = ["BestContinuation", "Evaluate", "best_continuation"]
 
 Evaluate = Callable[[Sequence[int], int], Sequence[NDArray[np.float64]]]
 """`evaluate(path, keep)`: hold context + `path`, running only `path[keep:]` (the first `keep` tokens are still
 held from the previous call); return the log-probability rows after `path[: j + 1]` for j = keep .. len - 1."""
-
-
-@dataclass(frozen=True)
-class BestContinuation:
-    index: int
-    """Position of the winning continuation in the input."""
-    score: float
-    """Its summed log-probability (nats)."""
-    tokens_evaluated: int
-    """Candidate tokens run through the model."""
-    expansions: int
-    """Trie nodes whose next-token distribution was needed."""
 
 
 @dataclass

@@ -7,6 +7,7 @@ Only the misses of a batch go to the model, in one call, in their original order
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import sqlite3
@@ -16,7 +17,7 @@ from contextlib import closing
 from pathlib import Path
 from typing import Any, TypeVar
 
-from talkdem.llm.base import LanguageModel
+from talkdem.llm.base import BestContinuation, LanguageModel
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
 __all__ = ["CachedLM", "cache_key"]
@@ -34,8 +35,9 @@ def cache_key(identity_key: str, method: str, fields: Sequence[Any]) -> str:
 class CachedLM(LanguageModel):
     """`inner` behind a SQLite cache at `path`; `hits` and `misses` count answered requests.
 
-    `score_continuations` (the SayCan fast path) and `encode` exist only when `inner` has them, so the
-    planner picks the same path through the cache as without it.
+    Every call of the interface goes through the cache: `score_continuations` and `best_continuation` are
+    keyed by context and candidates and answered by `inner`'s own (fast) path on a miss, so the planner takes
+    the same path through the cache as without it.
     """
 
     def __init__(self, inner: LanguageModel, path: str | Path) -> None:
@@ -51,12 +53,6 @@ class CachedLM(LanguageModel):
         self._db.execute("PRAGMA journal_mode=WAL")
         self._db.execute("CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, value TEXT NOT NULL)")
         self._db.commit()
-        inner_scorer = getattr(inner, "score_continuations", None)
-        if inner_scorer is not None:
-            self.score_continuations: Callable[[str, Sequence[str]], list[float]] = self._cached_scorer(inner_scorer)
-        inner_encode = getattr(inner, "encode", None)
-        if inner_encode is not None:
-            self.encode: Callable[[str], list[int]] = inner_encode
 
     # -- the interface --------------------------------------------------------------------------------
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
@@ -73,15 +69,24 @@ class CachedLM(LanguageModel):
             lambda indices: self.inner.generate([requests[i] for i in indices]),
         )
 
-    def _cached_scorer(self, inner_scorer: Callable[..., list[float]]) -> Callable[[str, Sequence[str]], list[float]]:
-        def score_continuations(context: str, continuations: Sequence[str]) -> list[float]:
-            return self._through_cache(
-                "score_continuations",
-                [(context, c) for c in continuations],
-                lambda indices: list(inner_scorer(context, [continuations[i] for i in indices])),
-            )
+    def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
+        return self._through_cache(
+            "score_continuations",
+            [(context, c) for c in continuations],
+            lambda indices: list(self.inner.score_continuations(context, [continuations[i] for i in indices])),
+        )
 
-        return score_continuations
+    def best_continuation(self, context: str, continuations: Sequence[str]) -> BestContinuation:
+        # One entry per (context, candidate list): the answer depends on all candidates together.
+        (found,) = self._through_cache(
+            "best_continuation",
+            [(context, list(continuations))],
+            lambda _: [dataclasses.asdict(self.inner.best_continuation(context, continuations))],
+        )
+        return BestContinuation(**found)
+
+    def token_count(self, text: str) -> int:
+        return self.inner.token_count(text)
 
     def close(self) -> None:
         with self._lock:

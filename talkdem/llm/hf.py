@@ -70,6 +70,9 @@ class HFCausalLM(LanguageModel):
         self.scorer = PrefixCachedScorer(self.model, max_packed_tokens=max_packed_tokens)
 
     # -- tokenization, done once and centrally -------------------------------------------------------
+    def token_count(self, text: str) -> int:
+        return len(self.encode(text))
+
     def encode(self, text: str) -> list[int]:
         ids: list[int] = self.tokenizer(text, add_special_tokens=False).input_ids
         return ids

@@ -151,6 +151,9 @@ class LlamaCppLM(LanguageModel):
         self._llm.eval(list(tokens))
 
     # -- tokenization, done once and centrally -------------------------------------------------------
+    def token_count(self, text: str) -> int:
+        return len(self.encode(text))
+
     def encode(self, text: str) -> list[int]:
         ids: list[int] = self._llm.tokenize(text.encode(), add_bos=False, special=False)
         return ids

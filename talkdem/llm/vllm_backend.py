@@ -129,6 +129,9 @@ class VLLMLM(LanguageModel):
         self.use_chat_template = chat_template and bool(getattr(self.tokenizer, "chat_template", None))
         self.identity = ModelIdentity(backend="vllm", name=model, revision=revision or "")
 
+    def token_count(self, text: str) -> int:
+        return len(self.encode(text))
+
     def encode(self, text: str) -> list[int]:
         ids: list[int] = self.tokenizer(text, add_special_tokens=False).input_ids
         return ids

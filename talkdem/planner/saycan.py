@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from talkdem.llm.base import LanguageModel
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.requests import GenerateRequest
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration, append_step, build_prompt
 from talkdem.planner.strategies import PlannerInput
@@ -110,14 +110,9 @@ class SayCanPlanner:
 
     def _scores(self, context: str, candidates: Sequence[str]) -> list[float]:
         continuations = [" " + c for c in candidates]
-        scorer = getattr(self.model, "score_continuations", None)
-        if scorer is not None:
-            scores: list[float] = scorer(context, continuations)
-        else:
-            scores = self.model.loglikelihood([LoglikelihoodRequest(context, c) for c in continuations])
+        scores = self.model.score_continuations(context, continuations)
         if self.config.scoring == "mean":
-            encode = getattr(self.model, "encode", None)
-            lengths = [len(encode(c)) if encode else len(c.split()) for c in continuations]
+            lengths = [self.model.token_count(c) for c in continuations]
             scores = [s / max(n, 1) for s, n in zip(scores, lengths, strict=True)]
         return scores
 
@@ -127,9 +122,9 @@ class SayCanPlanner:
             text = self.model.generate([GenerateRequest(context + " ", max_new_tokens=16, stop=(",", "\n"))])[0]
             skill, similarity = nearest_skill(text, candidates)
             return skill, similarity, text
-        search = getattr(self.model, "best_continuation", None)
-        if self.config.scoring == "sum" and not self.config.log_top and search is not None:
-            found = search(context, [" " + c for c in candidates])  # exact: the same skill as full scoring
+        if self.config.scoring == "sum" and not self.config.log_top:
+            # Exact: the same skill as full scoring (backends with branch and bound score far fewer tokens).
+            found = self.model.best_continuation(context, [" " + c for c in candidates])
             return candidates[found.index], found.score, ""
         scores = self._scores(context, candidates)
         best = max(range(len(candidates)), key=lambda i: (scores[i], -i))  # ties: the earlier skill

@@ -22,7 +22,8 @@ from talkdem.llm.base import LanguageModel, ModelIdentity
 from talkdem.llm.branch_bound import best_continuation
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 from talkdem.planner import PlannerInput, SayCanConfig, SayCanPlanner
-from talkdem.runs.sampling import ALL_CONDITIONS, select_episodes
+from talkdem.runs.sampling import select_episodes
+from talkdem.schema import CONDITIONS
 from talkdem.skills import vocabulary
 from talkdem.tasks import load_tasks
 
@@ -104,8 +105,8 @@ def _planner_steps(model: LanguageModel, tasks: int, max_steps: int) -> list[tup
     recorder = _Recorder(model)
     planner = SayCanPlanner(recorder, SayCanConfig(max_steps=max_steps))
     by_id = {task.task_id: task for task in load_tasks("benchmark")}
-    episodes = select_episodes(ALL_CONDITIONS, tasks)
-    per_task = len(ALL_CONDITIONS)
+    episodes = select_episodes(CONDITIONS, tasks)
+    per_task = len(CONDITIONS)
     for k in range(tasks):  # the clean control of the first task, then impaired instructions
         instruction = episodes[k * per_task + (5 * k) % per_task]
         planner.plan(by_id[instruction.task_id], PlannerInput(instruction.text))

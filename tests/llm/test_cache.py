@@ -34,8 +34,8 @@ class ScoringLM(CountingLM):
         self.calls.append(("score_continuations", len(continuations)))
         return [-len(context) / 7 - len(c) / 3 + 0.1 for c in continuations]
 
-    def encode(self, text: str) -> list[int]:
-        return [ord(ch) for ch in text]
+    def token_count(self, text: str) -> int:
+        return len(text)
 
 
 def test_hits_are_answered_without_the_model(tmp_path: Path) -> None:
@@ -99,14 +99,33 @@ def test_results_persist_across_instances(tmp_path: Path) -> None:
     assert inner.calls == []
 
 
-def test_score_continuations_is_cached_only_when_the_inner_model_has_it(tmp_path: Path) -> None:
-    plain = CachedLM(CountingLM(), tmp_path / "a.sqlite")
-    assert getattr(plain, "score_continuations", None) is None and getattr(plain, "encode", None) is None
+def test_the_scoring_calls_go_through_the_cache_and_the_inner_fast_path(tmp_path: Path) -> None:
     inner = ScoringLM()
     cached = CachedLM(inner, tmp_path / "b.sqlite")
     first = cached.score_continuations("ctx", [" a", " bb"])
     assert first == pytest.approx(inner.score_continuations("ctx", [" a", " bb"]))
     inner.calls.clear()
     assert cached.score_continuations("ctx", [" bb", " a", " c"])[:2] == [first[1], first[0]]
-    assert inner.calls == [("score_continuations", 1)]
-    assert cached.encode("ab") == [97, 98]
+    assert inner.calls == [("score_continuations", 1)], "only the new candidate reaches the model"
+    assert cached.token_count("ab") == 2 == inner.token_count("ab")
+
+
+def test_best_continuation_is_cached_and_equals_full_scoring(tmp_path: Path) -> None:
+    inner = ScoringLM()
+    cached = CachedLM(inner, tmp_path / "c.sqlite")
+    candidates = [" bbb", " a", " cc"]
+    found = cached.best_continuation("ctx", candidates)
+    scores = inner.score_continuations("ctx", candidates)
+    assert found.index == max(range(3), key=lambda i: scores[i]) == 1
+    inner.calls.clear()
+    assert cached.best_continuation("ctx", candidates) == found and inner.calls == []
+    assert cached.best_continuation("ctx", candidates[:1]).index == 0, "another candidate list is another entry"
+
+
+def test_the_default_interface_is_built_on_loglikelihood() -> None:
+    plain = CountingLM()
+    assert plain.score_continuations("ctx", [" a", " bb"]) == plain.loglikelihood(
+        [LoglikelihoodRequest("ctx", " a"), LoglikelihoodRequest("ctx", " bb")]
+    )
+    assert plain.best_continuation("ctx", [" bb", " a", " a"]).index == 1, "ties go to the earlier candidate"
+    assert plain.token_count("find a mug") == 3

@@ -218,3 +218,17 @@ def test_headers_name_no_machine_paths(tmp_path: Path) -> None:
     score_plan_file(plan_file, tmp_path / "run", "p")
     assert str(tmp_path) not in (tmp_path / "run" / "header.json").read_text()
     assert read_header(tmp_path / "run").config["plans"] == "plans.jsonl"
+
+
+def test_a_run_through_the_result_cache_gives_the_same_records(tmp_path: Path) -> None:
+    cache = tmp_path / "scores.sqlite"
+    plain, first, second = tmp_path / "plain", tmp_path / "first", tmp_path / "second"
+    assert _scripted(plain, 0.0).wait(timeout=300) == 0
+    assert _scripted(first, 0.0, "--cache", str(cache)).wait(timeout=300) == 0
+    assert cache.stat().st_size > 0
+    assert _scripted(second, 0.0, "--cache", str(cache)).wait(timeout=300) == 0
+
+    def plans(run_dir: Path) -> list[tuple[str, tuple[str, ...]]]:
+        return [(r.episode_id, r.plan) for r in read_episodes(run_dir)]
+
+    assert plans(first) == plans(second) == plans(plain)
