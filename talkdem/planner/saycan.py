@@ -31,7 +31,7 @@ from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration, append_step, build_prompt
 from talkdem.planner.strategies import PlannerInput
 from talkdem.seeds.records import SeedTask
-from talkdem.sim import EpisodeTrace, run_plan
+from talkdem.sim import Episode, EpisodeTrace
 from talkdem.skills import vocabulary
 
 __all__ = ["PlanResult", "SayCanConfig", "SayCanPlanner", "nearest_skill"]
@@ -140,21 +140,23 @@ class SayCanPlanner:
         context, plan, step_scores, generated = prompt, [], [], []
         self._top = []
         blocked: set[str] = set()
+        # The episode steps along with the planner: each skill is executed once, as it is chosen.
+        episode = Episode.start(task)
         for step in range(1, self.config.max_steps + 1):
             skill, score, text = self._choose(context, blocked)
             plan.append(skill)
             step_scores.append(score)
             generated.append(text)
-            if skill == "done":
+            outcome = episode.step(skill)
+            if episode.ended:
                 break
-            outcome = run_plan(task, plan, max_steps=self.config.max_steps).steps[-1]
             if outcome.ok:
                 blocked.clear()
             elif self.config.mask_failed:
                 blocked.add(skill)
             context = append_step(context, skill, step + 1)
         seconds = time.perf_counter() - start
-        trace = run_plan(task, plan, max_steps=self.config.max_steps)
+        trace = episode.close()
         return PlanResult(
             prompt=prompt,
             plan=tuple(plan),

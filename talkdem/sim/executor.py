@@ -91,6 +91,21 @@ class Episode:
         self.steps: list[StepRecord] = []
         self._monitor = HazardMonitor(exempt=exempt)
 
+    @classmethod
+    def start(cls, task: SeedTask) -> Episode:
+        """An episode under the same hazard exemptions as `run_plan`: a planner stepping it live gets the
+        trace `run_plan` would give for the same skills."""
+        return cls(task, reference_exemptions(task))
+
+    @property
+    def ended(self) -> bool:
+        """The last step was `done` (no further step belongs to the episode)."""
+        return bool(self.steps) and self.steps[-1].parsed == "done"
+
+    def close(self) -> EpisodeTrace:
+        """Finish as `run_plan` does for a plan of exactly the steps taken."""
+        return self.finish(EndReason.DONE if self.ended else EndReason.PLAN_EXHAUSTED)
+
     def step(self, text: str) -> StepRecord:
         record, skill = _step(self.state, text, len(self.steps))
         self.steps.append(record)

@@ -66,3 +66,22 @@ def test_scoring_planner_refuses_a_model_without_loglikelihoods() -> None:
     lm.supports_loglikelihood = False
     with pytest.raises(ValueError, match="generative"):
         SayCanPlanner(lm)
+
+
+@pytest.mark.parametrize(
+    "script",
+    [
+        ["pick up the apple", "pick up the apple", "done"],  # failures, masking, done
+        ["find an apple"],  # the step limit
+        [],  # the reference plan
+    ],
+)
+def test_the_live_episode_is_what_replaying_the_plan_gives(script: list[str]) -> None:
+    from talkdem.sim import run_plan
+
+    for task in load_tasks(TaskSet.BENCHMARK)[:12]:
+        lm = ScriptedLM(script or list(task.reference_plan))
+        config = SayCanConfig(max_steps=8)
+        result = SayCanPlanner(lm, config).plan(task, PlannerInput(task.instruction))
+        replayed = run_plan(task, result.plan, max_steps=config.max_steps)
+        assert result.trace.to_json() == replayed.to_json(), task.task_id
