@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from talkdem.plans import PlanFormatError, check_plan
 from talkdem.schema import CLEAN, Condition, parse_instruction_id
+from talkdem.serialization import to_jsonable
 
 if TYPE_CHECKING:
     from talkdem.instructions import Instruction
@@ -90,17 +91,7 @@ class RunHeader:
         )
 
     def to_json(self) -> dict[str, Any]:
-        return {
-            "schema": self.schema,
-            "model": self.model,
-            "planner": self.planner,
-            "strategy": self.strategy,
-            "prompt_version": self.prompt_version,
-            "dataset_hash": self.dataset_hash,
-            "code_revision": self.code_revision,
-            "config": self.config,
-            "created": self.created,
-        }
+        return dict(to_jsonable(self))
 
     @classmethod
     def from_json(cls, data: object, where: str = "run header") -> RunHeader:
@@ -185,21 +176,7 @@ class EpisodeRecord:
         return Condition(CLEAN, 0) if self.pattern == CLEAN else Condition(self.pattern, self.level)
 
     def to_json(self) -> dict[str, Any]:
-        return {
-            "episode_id": self.episode_id,
-            "task_id": self.task_id,
-            "pattern": self.pattern,
-            "level": self.level,
-            "instruction": self.instruction,
-            "instruction_shown": self.instruction_shown,
-            "plan": list(self.plan),
-            "success": self.success,
-            "hazards": list(self.hazards),
-            "goal_conditions": self.goal_conditions,
-            "notes": self.notes,
-            "timing": self.timing,
-            "trace": self.trace,
-        }
+        return dict(to_jsonable(self))
 
     def to_line(self) -> str:
         return json.dumps(self.to_json(), ensure_ascii=False, sort_keys=False)
