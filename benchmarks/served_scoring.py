@@ -103,13 +103,13 @@ def main() -> None:
     model = OpenAICompatibleLM("m", base_url="http://127.0.0.1:9", tokenizer=FAST_TEST_MODEL)
     assert model.tokenizer is not None
     start = time.perf_counter()
-    context_ids = tuple(model.tokenizer.context_ids(few_shot))
-    requests = [ScoringRequest(context_ids, tuple(model.tokenizer.encode(c))) for c in continuations]
+    step_ids = tuple(model.tokenizer.context_ids(few_shot))
+    requests = [ScoringRequest(step_ids, tuple(model.tokenizer.encode(c))) for c in continuations]
     body = json.dumps(completions_body("m", requests, "ids"))
     build = time.perf_counter() - start
     answers = []
     for request in requests:
-        tokens = [""] * len(context_ids) + [model.tokenizer.piece(t).decode() for t in request.continuation_ids]
+        tokens = [""] * len(step_ids) + [model.tokenizer.piece(t).decode() for t in request.continuation_ids]
         values = [None, *[-0.1] * (len(request.ids) - 1), -0.1]
         answers.append({"index": 0, "logprobs": {"tokens": [*tokens, "x"], "token_logprobs": values}})
     answer_text = json.dumps({"choices": answers})

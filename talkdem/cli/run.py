@@ -116,6 +116,10 @@ def run(args: argparse.Namespace) -> int:
         if args.tokenizer:
             options.update(tokenizer=args.tokenizer, scoring_api=args.scoring_api, prompt_format=args.prompt_format)
             options["add_bos"] = {"model": None, "always": True, "never": False}[args.bos]
+        elif args.planner == "scoring" and _local_tokenizer(args.model):
+            # `--model` names a local model (catalog name, GGUF, tokenizer folder): its tokenizer is the served one's
+            options.update(tokenizer=args.model, scoring_api=args.scoring_api, prompt_format=args.prompt_format)
+            options["add_bos"] = {"model": None, "always": True, "never": False}[args.bos]
         elif args.planner == "scoring":
             raise ValueError(
                 "scoring through a server needs the served model's tokenizer: give --tokenizer "
@@ -162,3 +166,9 @@ def run(args: argparse.Namespace) -> int:
         f"{summary.successes}/{summary.ran} successful this time"
     )
     return 0
+
+
+def _local_tokenizer(model: str) -> bool:
+    from talkdem.llm.models import get_model
+
+    return get_model(model) is not None or Path(model).expanduser().exists()

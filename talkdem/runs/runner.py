@@ -41,6 +41,7 @@ RESUME_KEYS = (
     "config.scoring",
     "config.mask_failed",
     "config.mode",
+    "config.shard",  # a shard's folder must not take another shard's episodes (merge would refuse it)
 )
 
 

@@ -108,6 +108,10 @@ def test_concurrency_and_several_servers_give_the_records_of_one_at_a_time(
     served = header.config["served"]
     assert served["servers"] == sorted([first.url, second.url]) and served["tokenizer"] == FAST_TEST_MODEL
     assert served["scoring_api"] == "completions" and served["served_model"] == "served-test"
+    # `--model` naming a local model: its tokenizer is used without --tokenizer
+    command = ["run", "--backend", "openai", "--model", FAST_TEST_MODEL, "--no-progress", *SELECTION]
+    assert main([*command, "--base-url", first.url, "--out", str(tmp_path / "named")]) == 0
+    assert _records(tmp_path / "named") == reference
 
 
 def test_shards_merge_into_the_unsharded_run_and_bad_merges_are_refused(
