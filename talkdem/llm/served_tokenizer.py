@@ -12,6 +12,7 @@ The BOS rule is the model's own (GGUF metadata `tokenizer.ggml.add_bos_token`; t
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import os
@@ -45,7 +46,14 @@ class _GGUFTokenizer:
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
         from llama_cpp import Llama
 
-        self._llm: Any = Llama(model_path=str(path), vocab_only=True, verbose=False)
+        try:  # llama.cpp prints a context warning for a vocabulary-only model even when not verbose
+            from llama_cpp._utils import suppress_stdout_stderr
+
+            quiet: Any = suppress_stdout_stderr(disable=False)
+        except ImportError:
+            quiet = contextlib.nullcontext()
+        with quiet:
+            self._llm: Any = Llama(model_path=str(path), vocab_only=True, verbose=False)
         self._lock = threading.Lock()  # one tokenizer serves every client thread of a concurrent run
         self.name, self.revision = name, revision
         own_rule = self._llm.tokenize(b"a", add_bos=True, special=False)[:1] == [self._llm.token_bos()]
