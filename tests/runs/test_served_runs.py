@@ -131,6 +131,9 @@ def test_shards_merge_into_the_unsharded_run_and_bad_merges_are_refused(
     assert read_header(tmp_path / "merged").config["merged_from"] == ["2/2", "1/2"]
     # the merged run is a run like any other
     assert main(["report", str(tmp_path / "merged"), "--out", str(tmp_path / "report"), "--no-plots"]) == 0
+    board = ["leaderboard", str(tmp_path / "merged"), "--out", str(tmp_path / "board"), "--bootstrap", "0"]
+    assert main(board) == 0
+    assert "served-test" in (tmp_path / "board" / "README.md").read_text()
     capsys.readouterr()
 
     # incomplete: the missing episodes are named, nothing is written
