@@ -75,6 +75,12 @@ def register(subparsers: Any) -> None:
         metavar="N",
         help="openai backend: N episodes stepping at once (one request per step each)",
     )
+    parser.add_argument(
+        "--timeout",
+        type=positive_int,
+        metavar="SECONDS",
+        help="openai backend: seconds to wait for one answer (default 60; a large model's step on vLLM may need more)",
+    )
     parser.add_argument("--shard", metavar="I/N", help="run only shard I of N (merge the shards with `talkdem merge`)")
     parser.add_argument("--threads", type=positive_int, help="hf / llamacpp backends: CPU threads")
     parser.add_argument(
@@ -108,11 +114,14 @@ def run(args: argparse.Namespace) -> int:
         args.prompt_format != "ids",
         args.bos != "model",
     )
-    if args.backend != "openai" and (args.base_url or any(served_options) or args.concurrency > 1):
+    if args.backend != "openai" and (args.base_url or any(served_options) or args.concurrency > 1 or args.timeout):
         raise ValueError(
-            "--base-url, --tokenizer, --scoring-api, --prompt-format, --bos and --concurrency are for --backend openai"
+            "--base-url, --tokenizer, --scoring-api, --prompt-format, --bos, --timeout and --concurrency are for "
+            "--backend openai"
         )
     if args.backend == "openai":
+        if args.timeout:
+            options["timeout"] = float(args.timeout)
         if args.tokenizer:
             options.update(tokenizer=args.tokenizer, scoring_api=args.scoring_api, prompt_format=args.prompt_format)
             options["add_bos"] = {"model": None, "always": True, "never": False}[args.bos]
