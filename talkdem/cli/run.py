@@ -37,7 +37,51 @@ def register(subparsers: Any) -> None:
         help="generative: for chat endpoints without prompt log-likelihoods",
     )
     parser.add_argument("--no-mask-failed", action="store_true", help="offer a skill again right after it failed")
-    parser.add_argument("--base-url", help="openai backend: server URL, e.g. http://127.0.0.1:8080/v1")
+    parser.add_argument(
+        "--base-url",
+        action="append",
+        help="openai backend: server URL, e.g. http://127.0.0.1:8080/v1; repeat for several servers of one model "
+        "(episodes are spread over them, each episode on one server)",
+    )
+    parser.add_argument(
+        "--tokenizer",
+        help="openai backend, scoring planner: the served model's tokenizer (model name, GGUF file or local "
+        "Hugging Face tokenizer folder), so prompts split exactly as in process",
+    )
+    parser.add_argument(
+        "--scoring-api",
+        choices=["completions", "sglang"],
+        default="completions",
+        help="openai backend: /v1/completions with echoed log-probabilities (vLLM, llama-cpp-python) or SGLang's "
+        "/generate",
+    )
+    parser.add_argument(
+        "--prompt-format",
+        choices=["ids", "text"],
+        default="ids",
+        help="completions scoring: token-id prompts, one request per step (vLLM), or one string per candidate "
+        "(llama-cpp-python's server)",
+    )
+    parser.add_argument(
+        "--bos",
+        choices=["model", "always", "never"],
+        default="model",
+        help="the tokenizer's BOS rule (model: its own), for a server started with another rule",
+    )
+    parser.add_argument(
+        "--concurrency",
+        type=positive_int,
+        default=1,
+        metavar="N",
+        help="openai backend: N episodes stepping at once (one request per step each)",
+    )
+    parser.add_argument(
+        "--timeout",
+        type=positive_int,
+        metavar="SECONDS",
+        help="openai backend: seconds to wait for one answer (default 60; a large model's step on vLLM may need more)",
+    )
+    parser.add_argument("--shard", metavar="I/N", help="run only shard I of N (merge the shards with `talkdem merge`)")
     parser.add_argument("--threads", type=positive_int, help="hf / llamacpp backends: CPU threads")
     parser.add_argument(
         "--log-top", type=non_negative_int, default=0, metavar="N", help="score every skill and log the best N per step"
@@ -52,10 +96,6 @@ def register(subparsers: Any) -> None:
     parser.set_defaults(handler=run)
 
 
-# Options that mean something to some backends only: given to another backend they would be silently ignored.
-_BACKEND_OPTIONS = {"base_url": ("openai",), "threads": ("hf", "llamacpp")}
-
-
 def run(args: argparse.Namespace) -> int:
     from talkdem.llm.registry import load_model
     from talkdem.planner.saycan import SayCanConfig
@@ -66,18 +106,59 @@ def run(args: argparse.Namespace) -> int:
 
     conditions = parse_conditions(args.conditions)
     episodes = select_episodes(conditions, args.limit)
-    options = {name: getattr(args, name) for name in _BACKEND_OPTIONS if getattr(args, name) is not None}
-    for name in options:
-        if args.backend not in _BACKEND_OPTIONS[name]:
-            flag = "--" + name.replace("_", "-")
+    extra: dict[str, object] = {"conditions": [str(c) for c in conditions], "limit": args.limit}
+    if args.shard:
+        from talkdem.runs.shards import parse_shard, shard_of
+
+        shard = parse_shard(args.shard)
+        episodes = shard_of(episodes, shard)
+        extra["shard"] = str(shard)
+    options: dict[str, Any] = {}
+    served_options = (
+        args.tokenizer,
+        args.scoring_api != "completions",
+        args.prompt_format != "ids",
+        args.bos != "model",
+    )
+    if args.backend != "openai" and (args.base_url or any(served_options) or args.concurrency > 1 or args.timeout):
+        raise ValueError(
+            "--base-url, --tokenizer, --scoring-api, --prompt-format, --bos, --timeout and --concurrency are for "
+            "--backend openai"
+        )
+    if args.threads and args.backend not in ("hf", "llamacpp"):
+        raise ValueError(f"--threads applies to the hf and llamacpp backends, not {args.backend}")
+    if args.backend == "openai":
+        if args.timeout:
+            options["timeout"] = float(args.timeout)
+        if args.tokenizer:
+            options.update(tokenizer=args.tokenizer, scoring_api=args.scoring_api, prompt_format=args.prompt_format)
+            options["add_bos"] = {"model": None, "always": True, "never": False}[args.bos]
+        elif args.planner == "scoring" and _local_tokenizer(args.model):
+            # `--model` names a local model (catalog name, GGUF, tokenizer folder): its tokenizer is the served one's
+            options.update(tokenizer=args.model, scoring_api=args.scoring_api, prompt_format=args.prompt_format)
+            options["add_bos"] = {"model": None, "always": True, "never": False}[args.bos]
+        elif args.planner == "scoring":
             raise ValueError(
-                f"{flag} applies to the {' and '.join(_BACKEND_OPTIONS[name])} backend(s), not {args.backend}"
+                "scoring through a server needs the served model's tokenizer: give --tokenizer "
+                "(a model name, GGUF file or local tokenizer folder), or use --planner generative"
             )
-    model = load_model(args.backend, args.model, **options)
+    if args.threads:
+        options["threads"] = args.threads
+    urls = args.base_url or [None]
+    if len(urls) > args.concurrency:
+        raise ValueError(
+            f"{len(urls)} --base-url but --concurrency {args.concurrency}: give --concurrency at least "
+            f"{len(urls)} so that every server gets episodes"
+        )
+    clients = []
+    for slot in range(args.concurrency):
+        url = urls[slot % len(urls)]
+        clients.append(load_model(args.backend, args.model, **options, **({"base_url": url} if url else {})))
     if args.cache is not None:
         from talkdem.llm.cache import CachedLM
 
-        model = CachedLM(model, args.cache)
+        clients = [CachedLM(client, args.cache) for client in clients]
+    model = clients[0]
     strategy = load_strategy(args.strategy)
     config = SayCanConfig(
         max_steps=args.max_steps,
@@ -97,11 +178,18 @@ def run(args: argparse.Namespace) -> int:
         strategy,
         out,
         config,
-        extra_config={"conditions": [str(c) for c in conditions], "limit": args.limit},
+        extra_config=extra,
         progress=not args.no_progress,
+        clients=clients,
     )
     print(
         f"{summary.run_dir}: {summary.ran} episodes run, {summary.skipped} resumed, "
         f"{summary.successes}/{summary.ran} successful this time"
     )
     return 0
+
+
+def _local_tokenizer(model: str) -> bool:
+    from talkdem.llm.models import get_model
+
+    return get_model(model) is not None or Path(model).expanduser().exists()

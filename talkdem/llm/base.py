@@ -78,6 +78,11 @@ class LanguageModel(ABC):
         best = max(range(len(scores)), key=lambda i: (scores[i], -i))
         return BestContinuation(best, scores[best])
 
+    def run_info(self) -> dict[str, str]:
+        """What a run header records about where the model runs beyond its identity (a server's URL, the
+        served model name, the tokenizer); empty for in-process backends."""
+        return {}
+
     def token_count(self, text: str) -> int:
         """Tokens in `text`, the divisor of mean scoring. Backends with a tokenizer count tokens; this
         default counts whitespace-separated words (an approximation for tokenizer-less endpoints)."""

@@ -88,6 +88,9 @@ class CachedLM(LanguageModel):
     def token_count(self, text: str) -> int:
         return self.inner.token_count(text)
 
+    def run_info(self) -> dict[str, str]:
+        return self.inner.run_info()
+
     def close(self) -> None:
         with self._lock:
             self._db.close()

@@ -1,8 +1,12 @@
 """Any OpenAI-compatible endpoint (a vLLM server, llama.cpp's server, a hosted API), standard library only.
 
-Chat endpoints give no prompt log-likelihoods, so this backend only generates: it serves CoT/TOCC
-rewriting, the dataset's LLM generators, and the generative SayCan planner (`SayCanConfig(mode="generative")`,
-labelled `saycan-generative` in results). `loglikelihood` raises `LoglikelihoodUnsupportedError`.
+Generation serves CoT/TOCC rewriting, the dataset's LLM generators and the generative SayCan planner
+(`SayCanConfig(mode="generative")`, labelled `saycan-generative` in results). Chat endpoints give no prompt
+log-likelihoods; given the served model's own `tokenizer` (a GGUF file, a catalog name or a local Hugging Face
+tokenizer folder), this backend also scores: SayCan's log-likelihood protocol over `/v1/completions` with echoed
+prompt log-probabilities (vLLM: token-id prompts, all candidates of a step in one request; llama-cpp-python's
+server: one string per request) or SGLang's `/generate` (see `talkdem.llm.served_scoring`). Without a tokenizer
+`loglikelihood` raises `LoglikelihoodUnsupportedError`.
 
 Server errors (5xx, 429), refused or dropped connections and timeouts are retried with exponential
 backoff; once the retries are spent, `EndpointError` names the URL and the last failure. Client errors
@@ -22,15 +26,25 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any, Literal
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop
+from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, loglikelihood_by_context
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.served_scoring import (
+    PromptFormat,
+    ScoringProtocolError,
+    ScoringRequest,
+    completions_body,
+    read_completions_choice,
+    read_sglang_item,
+    sglang_body,
+)
 
-__all__ = ["API_KEY_ENV", "EndpointError", "LoglikelihoodUnsupportedError", "OpenAICompatibleLM"]
+__all__ = ["API_KEY_ENV", "EndpointError", "LoglikelihoodUnsupportedError", "OpenAICompatibleLM", "ScoringAPI"]
 
 API_KEY_ENV = "OPENAI_API_KEY"
 _MAX_STOP_STRINGS = 4  # the OpenAI API accepts at most four; the rest are applied locally by `cut_at_stop`
 
 Endpoint = Literal["chat", "completions", "auto"]
+ScoringAPI = Literal["completions", "sglang"]
 
 
 class EndpointError(RuntimeError):
@@ -70,6 +84,12 @@ class OpenAICompatibleLM(LanguageModel):
         endpoint: `chat`, `completions` (raw text continuation, for base models), or `auto` (chat, falling back
             to completions for good when the server has no chat route or no chat template).
         concurrency: requests of one batch sent in parallel (hosted APIs); 1 sends them one after another.
+        tokenizer: the served model's tokenizer (GGUF file, catalog name or local HF tokenizer folder): enables
+            log-likelihood scoring, split exactly as the in-process backends split.
+        scoring_api: `completions` (echoed prompt log-probabilities) or `sglang` (native `/generate`).
+        prompt_format: `ids` (token-id prompts, one request per step: vLLM) or `text` (one string per request,
+            tokenized by the server and checked through `/extras/tokenize`: llama-cpp-python's server).
+        add_bos: override the tokenizer's BOS rule (for a server started with another rule).
     """
 
     supports_loglikelihood = False
@@ -85,11 +105,19 @@ class OpenAICompatibleLM(LanguageModel):
         max_backoff: float = 8.0,
         endpoint: Endpoint = "chat",
         concurrency: int = 1,
+        tokenizer: str | None = None,
+        scoring_api: ScoringAPI = "completions",
+        prompt_format: PromptFormat = "ids",
+        add_bos: bool | None = None,
     ) -> None:
         if max_retries < 0 or timeout <= 0 or backoff < 0 or concurrency < 1:
             raise ValueError("need max_retries >= 0, timeout > 0, backoff >= 0 and concurrency >= 1")
         if endpoint not in ("chat", "completions", "auto"):
             raise ValueError(f"endpoint must be 'chat', 'completions' or 'auto', got {endpoint!r}")
+        if scoring_api not in ("completions", "sglang") or prompt_format not in ("ids", "text"):
+            raise ValueError("scoring_api must be 'completions' or 'sglang', prompt_format 'ids' or 'text'")
+        if scoring_api == "sglang" and prompt_format == "text":
+            raise ValueError("SGLang's /generate takes token ids: prompt_format must be 'ids'")
         self.model = model
         self.base_url = _normalize_base_url(base_url)
         self.api_key = api_key if api_key is not None else os.environ.get(API_KEY_ENV) or None
@@ -101,17 +129,110 @@ class OpenAICompatibleLM(LanguageModel):
         self.concurrency = concurrency
         self.sleep: Callable[[float], None] = time.sleep
         self.identity = ModelIdentity(backend="openai", name=model, revision=self.base_url)
+        self.scoring_api: ScoringAPI = scoring_api
+        self.prompt_format: PromptFormat = prompt_format
+        self.tokenizer = None
+        if tokenizer is not None:
+            from talkdem.llm.served_tokenizer import load_tokenizer
+
+            self.tokenizer = load_tokenizer(tokenizer, add_bos)
+            self.supports_loglikelihood = True
+            # A scoring run's identity is the served model and the tokenizer that split its prompts, not the URL:
+            # shards scored by several servers of one model are one run.
+            self.identity = ModelIdentity(
+                backend="openai", name=model, revision=f"tokenizer {self.tokenizer.name} {self.tokenizer.revision}"
+            )
+        self.server_root = self.base_url.removesuffix("/v1")
         # A server on this machine is never reached through a proxy named in *_proxy variables.
         local = urllib.parse.urlsplit(self.base_url).hostname in ("127.0.0.1", "localhost", "::1")
         self._opener = urllib.request.build_opener(urllib.request.ProxyHandler({})) if local else None
 
     # -- the interface --------------------------------------------------------------------------------
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
-        raise LoglikelihoodUnsupportedError(
-            f"{self.identity.key()}: an OpenAI-compatible chat endpoint gives no prompt log-likelihoods; "
-            "use the generative planner (SayCanConfig(mode='generative'), `talkdem run --planner generative`) "
-            "or a local backend (hf, llamacpp, vllm) for scoring"
-        )
+        if self.tokenizer is None:
+            raise LoglikelihoodUnsupportedError(
+                f"{self.identity.key()}: an OpenAI-compatible chat endpoint gives no prompt log-likelihoods; "
+                "use the generative planner (SayCanConfig(mode='generative'), `talkdem run --planner generative`), "
+                "give the served model's tokenizer to score over /v1/completions or SGLang (`--tokenizer`), "
+                "or a local backend (hf, llamacpp, vllm)"
+            )
+        return loglikelihood_by_context(requests, self.score_continuations)
+
+    def run_info(self) -> dict[str, str]:
+        """What a run header records about the server (no API key)."""
+        info = {"base_url": self.base_url, "served_model": self.model}
+        if self.tokenizer is not None:
+            info.update(
+                tokenizer=self.tokenizer.name,
+                tokenizer_revision=self.tokenizer.revision,
+                scoring_api=self.scoring_api,
+                prompt_format=self.prompt_format,
+            )
+        return info
+
+    # -- scoring --------------------------------------------------------------------------------------
+    def encode(self, text: str) -> list[int]:
+        if self.tokenizer is None:
+            raise LoglikelihoodUnsupportedError(f"{self.identity.key()}: no tokenizer given")
+        return self.tokenizer.encode(text)
+
+    def token_count(self, text: str) -> int:
+        return len(self.encode(text)) if self.tokenizer is not None else super().token_count(text)
+
+    def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
+        """Summed log p(continuation | context) per continuation: one request per step (`ids`, SGLang), or one
+        per continuation (`text`)."""
+        if self.tokenizer is None:
+            return self.loglikelihood([LoglikelihoodRequest(context, c) for c in continuations])
+        tokenizer = self.tokenizer
+        context_ids = tuple(tokenizer.context_ids(context))
+        bos = tokenizer.bos_id is not None
+        requests = []
+        for continuation in continuations:
+            ids = tuple(tokenizer.encode(continuation))
+            if not ids or not context_ids:
+                raise ValueError("the context and every continuation must have at least one token")
+            requests.append(ScoringRequest(context_ids, ids, context + continuation, continuation, bos))
+        if self.scoring_api == "sglang":
+            return self._score_sglang(requests)
+        if self.prompt_format == "text":
+            return [self._score_text(request) for request in requests]
+        response = self._post("/completions", completions_body(self.model, requests, "ids"))
+        choices = self._choices_by_index(response, len(requests))
+        return [
+            read_completions_choice(choice, request, tokenizer.piece, f"{self.base_url}/completions")
+            for choice, request in zip(choices, requests, strict=True)
+        ]
+
+    def _score_text(self, request: ScoringRequest) -> float:
+        assert self.tokenizer is not None
+        served = self._post_url(self.server_root + "/extras/tokenize", {"input": request.text, "model": self.model})
+        tokens = served.get("tokens")
+        if tokens != request.ids:
+            raise ScoringProtocolError(
+                f"{self.server_root}/extras/tokenize splits {request.continuation!r} after its context otherwise "
+                f"than the tokenizer {self.tokenizer.name} ({len(tokens) if isinstance(tokens, list) else '?'} "
+                f"tokens there, {len(request.ids)} here): the server runs another tokenizer or BOS rule"
+            )
+        response = self._post("/completions", completions_body(self.model, [request], "text"))
+        (choice,) = self._choices_by_index(response, 1)
+        return read_completions_choice(choice, request, self.tokenizer.piece, f"{self.base_url}/completions")
+
+    def _score_sglang(self, requests: Sequence[ScoringRequest]) -> list[float]:
+        url = self.server_root + "/generate"
+        answer = self._post_url(url, sglang_body(requests), expect=list)
+        if not isinstance(answer, list) or len(answer) != len(requests):
+            raise ScoringProtocolError(f"{url}: expected a list of {len(requests)} answers")
+        return [read_sglang_item(item, request, url) for item, request in zip(answer, requests, strict=True)]
+
+    def _choices_by_index(self, response: dict[str, Any], count: int) -> list[dict[str, Any]]:
+        choices = response.get("choices")
+        if not isinstance(choices, list) or len(choices) != count or not all(isinstance(c, dict) for c in choices):
+            raise ScoringProtocolError(f"{self.base_url}/completions: expected {count} choices")
+        by_index = sorted(choices, key=lambda c: c.get("index", -1))
+        if [c.get("index") for c in by_index] != list(range(count)):
+            raise ScoringProtocolError(f"{self.base_url}/completions: choice indices are not 0..{count - 1}")
+        return by_index
 
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
         if self.concurrency == 1 or len(requests) <= 1:
@@ -164,8 +285,13 @@ class OpenAICompatibleLM(LanguageModel):
         return first
 
     def _post(self, route: str, body: dict[str, Any]) -> dict[str, Any]:
-        """POST JSON with retries; the parsed JSON answer."""
-        url = self.base_url + route
+        """POST JSON to a route under the base URL with retries; the parsed JSON object."""
+        answer = self._post_url(self.base_url + route, body)
+        assert isinstance(answer, dict)
+        return answer
+
+    def _post_url(self, url: str, body: dict[str, Any], expect: type = dict) -> Any:
+        """POST JSON with retries; the parsed JSON answer (an object, or `expect`)."""
         payload = json.dumps(body).encode()
         headers = {"Content-Type": "application/json", "Accept": "application/json"}
         if self.api_key:
@@ -175,7 +301,7 @@ class OpenAICompatibleLM(LanguageModel):
             if attempt:
                 self.sleep(min(max(self.backoff * 2 ** (attempt - 1), retry_after), self.max_backoff))
             try:
-                return self._post_once(url, payload, headers)
+                return self._post_once(url, payload, headers, expect)
             except _Retryable as failure:
                 last_failure, retry_after = str(failure), failure.retry_after or 0.0
         raise EndpointError(
@@ -183,7 +309,7 @@ class OpenAICompatibleLM(LanguageModel):
             f"last failure: {last_failure}"
         )
 
-    def _post_once(self, url: str, payload: bytes, headers: dict[str, str]) -> dict[str, Any]:
+    def _post_once(self, url: str, payload: bytes, headers: dict[str, str], expect: type = dict) -> Any:
         http_request = urllib.request.Request(url, data=payload, headers=headers, method="POST")
         try:
             opened = (self._opener.open if self._opener else urllib.request.urlopen)(http_request, timeout=self.timeout)
@@ -205,8 +331,8 @@ class OpenAICompatibleLM(LanguageModel):
             parsed = json.loads(raw)
         except json.JSONDecodeError as error:
             raise _Retryable(f"an answer that is not JSON: {raw[:200]!r}") from error
-        if not isinstance(parsed, dict):
-            raise EndpointError(f"{url}: expected a JSON object, got {raw[:200]!r}")
+        if not isinstance(parsed, expect):
+            raise EndpointError(f"{url}: expected a JSON {expect.__name__}, got {raw[:200]!r}")
         return parsed
 
 

@@ -1,0 +1,164 @@
+"""One run over many machines: `talkdem run --shard I/N` runs a deterministic slice of the episodes, and
+`merge_runs` joins the shard directories into one run directory that `report` and `leaderboard` read like any
+other.
+
+The slice: the run's episode ids sorted, every N-th from the I-th (so each shard gets every task type and
+condition in about equal share); an episode belongs to exactly one shard whatever the machine. Merging refuses
+shards of different runs (the keys that change what an outcome means, and the selection), shards of different
+splits, the same shard twice, and an episode present in two shards; it names the missing episodes of an
+incomplete set.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from talkdem.runs.records import EpisodeRecord, RunHeader
+from talkdem.runs.store import EPISODES_FILE, read_episodes, read_header, run_lock, write_header
+
+if TYPE_CHECKING:
+    from talkdem.instructions import Instruction
+
+__all__ = ["MERGE_KEYS", "MergeResult", "Shard", "merge_runs", "parse_shard", "rewrite_episodes", "shard_of"]
+
+# What every shard must agree on: what an outcome means (the resume keys) and which episodes the run covers.
+MERGE_KEYS = (
+    "model",
+    "planner",
+    "strategy",
+    "prompt_version",
+    "dataset_hash",
+    "config.max_steps",
+    "config.scoring",
+    "config.mask_failed",
+    "config.mode",
+    "config.conditions",
+    "config.limit",
+)
+
+
+@dataclass(frozen=True)
+class Shard:
+    index: int
+    """1-based."""
+    count: int
+
+    def __str__(self) -> str:
+        return f"{self.index}/{self.count}"
+
+
+def parse_shard(text: str) -> Shard:
+    """`I/N` with 1 <= I <= N."""
+    parts = text.split("/")
+    try:
+        index, count = (int(p) for p in parts) if len(parts) == 2 else (0, 0)
+    except ValueError:
+        index = count = 0
+    if not 1 <= index <= count:
+        raise ValueError(f"shard '{text}' must be I/N with 1 <= I <= N, e.g. 1/4")
+    return Shard(index, count)
+
+
+def shard_of(instructions: Sequence[Instruction], shard: Shard) -> list[Instruction]:
+    """The shard's episodes, in the selection's order: sorted ids, every `count`-th from the `index`-th."""
+    ids = sorted(i.id for i in instructions)
+    mine = set(ids[shard.index - 1 :: shard.count])
+    return [i for i in instructions if i.id in mine]
+
+
+def rewrite_episodes(run_dir: Path, episodes: Sequence[EpisodeRecord]) -> None:
+    """Replace `episodes.jsonl` atomically (a crash leaves the old file or the new one, never half)."""
+    path = run_dir / EPISODES_FILE
+    scratch = path.with_name(f".{EPISODES_FILE}.{os.getpid()}.tmp")
+    with scratch.open("w", encoding="utf-8") as handle:
+        for episode in episodes:
+            handle.write(episode.to_line() + "\n")
+        handle.flush()
+        os.fsync(handle.fileno())
+    os.replace(scratch, path)
+
+
+@dataclass(frozen=True)
+class MergeResult:
+    out: Path
+    episodes: int
+    missing: tuple[str, ...]
+
+
+def _value(header: RunHeader, key: str) -> Any:
+    if key.startswith("config."):
+        return header.config.get(key.removeprefix("config."))
+    return header.to_json()[key]
+
+
+def _selection(header: RunHeader) -> list[str]:
+    """The episode ids of the whole (unsharded) run the header describes."""
+    from talkdem.runs.sampling import select_episodes
+    from talkdem.schema import parse_conditions
+
+    conditions = header.config.get("conditions")
+    limit = header.config.get("limit")
+    text = ",".join(conditions) if isinstance(conditions, list) else None
+    return [i.id for i in select_episodes(parse_conditions(text), limit if isinstance(limit, int) else None)]
+
+
+def merge_runs(out: Path, shard_dirs: Sequence[Path], allow_incomplete: bool = False) -> MergeResult:
+    """Join shard run directories into `out` (new or empty), episodes in the selection's order."""
+    if len(shard_dirs) < 1:
+        raise ValueError("name at least one shard directory")
+    if len({d.resolve() for d in shard_dirs}) != len(shard_dirs):
+        raise ValueError("a shard directory is named twice")
+    headers = [read_header(d) for d in shard_dirs]
+    first = headers[0]
+    for directory, header in zip(shard_dirs[1:], headers[1:], strict=True):
+        clashes = [k for k in MERGE_KEYS if _value(header, k) != _value(first, k)]
+        if clashes:
+            details = "; ".join(f"{k}: {_value(first, k)!r} vs {_value(header, k)!r}" for k in clashes)
+            raise ValueError(f"{directory} is not a shard of the same run as {shard_dirs[0]} ({details})")
+    shards = [h.config.get("shard") for h in headers]
+    counts = {str(s).split("/")[-1] for s in shards if s}
+    if len(counts) > 1:
+        raise ValueError(f"shards of different splits: {', '.join(str(s) for s in shards)}")
+    named = [str(s) for s in shards if s]
+    if len(set(named)) != len(named):
+        twice = sorted({s for s in named if named.count(s) > 1})
+        raise ValueError(f"shard {twice[0]} is named twice ({len(named)} shard directories)")
+    seen: dict[str, Path] = {}
+    by_id: dict[str, EpisodeRecord] = {}
+    for directory in shard_dirs:
+        for episode in read_episodes(directory):
+            if episode.episode_id in seen:
+                raise ValueError(
+                    f"episode {episode.episode_id} is in both {seen[episode.episode_id]} and {directory}: "
+                    "overlapping shards cannot be merged"
+                )
+            seen[episode.episode_id] = directory
+            by_id[episode.episode_id] = episode
+    selection = _selection(first)
+    stray = sorted(set(by_id) - set(selection))
+    if stray:
+        raise ValueError(f"{seen[stray[0]]}: episode {stray[0]} is not in the run's selection")
+    missing = tuple(i for i in selection if i not in by_id)
+    if missing and not allow_incomplete:
+        shown = ", ".join(missing[:10]) + (f" and {len(missing) - 10} more" if len(missing) > 10 else "")
+        raise ValueError(f"{len(missing)} of {len(selection)} episodes are missing: {shown}")
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise ValueError(f"{out}: exists and is not an empty folder; choose a new OUT")
+    with run_lock(out):
+        config = {k: v for k, v in first.config.items() if k != "shard"}
+        config["planned_episodes"] = len(selection)
+        config["merged_from"] = [str(s) if s else str(d.name) for s, d in zip(shards, shard_dirs, strict=True)]
+        served: list[dict[str, Any]] = [h.config["served"] for h in headers if isinstance(h.config.get("served"), dict)]
+        if served:
+            servers = sorted({url for s in served for url in s.get("servers", [])})
+            config["served"] = {**served[0], "servers": servers}
+        revisions = sorted({h.code_revision for h in headers})
+        if len(revisions) > 1:
+            config["code_revisions"] = revisions
+        write_header(out, RunHeader(**{**first.__dict__, "config": config}))
+        rewrite_episodes(out, [by_id[i] for i in selection if i in by_id])
+    return MergeResult(out, len(by_id), missing)
