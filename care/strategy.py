@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from care.embedding_cache import CachedEncoder
 from care.memory import Encoder, memory_embeddings
 from care.retrieval import top_k
 from talkdem.instructions import MemoryItem, load_memory_bank
@@ -33,7 +34,9 @@ class ContextAwareRetrieval(Strategy):
     def __init__(self, memory: Sequence[MemoryItem] | None = None, k: int = 3, encode: Encoder | None = None) -> None:
         self.memory = tuple(memory if memory is not None else load_memory_bank())
         self.k = k
-        self.encode = encode or _minilm()
+        # The default encoder's embeddings are cached on disk by (text, encoder): a repeated run over the same
+        # instructions encodes nothing. An encoder passed in has no name to key a cache by, so it is used as is.
+        self.encode: Encoder = encode or CachedEncoder(_minilm(), ENCODER_NAME)
         self.embeddings = memory_embeddings(self.memory, self.encode, ENCODER_NAME)
 
     def retrieve(self, instructions: Sequence[str]) -> list[list[MemoryItem]]:
