@@ -23,15 +23,15 @@ WARM_GOAL_SECONDS = 2.0
 def main() -> None:
     os.environ.setdefault("HF_HUB_OFFLINE", "1")
     os.environ.setdefault("TOKENIZERS_PARALLELISM", "false")
-    from builders.selection.encoder import _model
     from care.strategy import ContextAwareRetrieval
+    from talkdem.embeddings import load_encoder
     from talkdem.instructions import load_instructions, load_memory_bank
     from talkdem.paths import CACHE_DIR_ENV
 
     memory = load_memory_bank()
     texts = [instruction.text for instruction in load_instructions()]
     start = time.perf_counter()
-    encoder = _model()
+    encoder = load_encoder()
     load = time.perf_counter() - start
     load_before = os.getloadavg()[0]
 

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from care.embedding_cache import CachedEncoder
 from care.memory import Encoder, memory_embeddings
 from care.retrieval import top_k
+from talkdem.embeddings import ENCODER_NAME
 from talkdem.instructions import MemoryItem, load_memory_bank
 from talkdem.llm.base import LanguageModel
 from talkdem.planner.prompt import Demonstration, prompt_text
@@ -19,11 +20,9 @@ from talkdem.planner.strategies import PlannerInput, Strategy
 
 __all__ = ["ContextAwareRetrieval"]
 
-ENCODER_NAME = "sentence-transformers/all-MiniLM-L6-v2"
-
 
 def _minilm() -> Encoder:
-    from builders.selection.encoder import encode
+    from talkdem.embeddings import encode  # torch loads only when CARE is used
 
     return encode
 

@@ -32,7 +32,7 @@ def _markers_of(texts: Sequence[str], references: Sequence[str] | None) -> list[
     nlp = load_pipeline()
     values = [text_markers(doc) for doc in nlp.pipe(texts, batch_size=256)]
     if references is not None:
-        from builders.selection.encoder import encode
+        from talkdem.embeddings import encode
 
         a, b = encode(texts), encode(references)
         for row, cosine in zip(values, (a * b).sum(axis=1), strict=True):
@@ -104,7 +104,7 @@ def compare_dementiabank(
         docs = nlp.pipe([c.text for c in chunks], batch_size=256)
         values[group] = [text_markers(doc, repairs=c.repairs) for doc, c in zip(docs, chunks, strict=True)]
         if reference_text:
-            from builders.selection.encoder import encode
+            from talkdem.embeddings import encode
 
             emb, ref = encode([c.text for c in chunks]), encode([reference_text])
             for row, cosine in zip(values[group], emb @ ref[0], strict=True):

@@ -102,7 +102,7 @@ def select_tasks(
     """Run the selection; `encode` defaults to all-MiniLM-L6-v2 (tests may pass a small stand-in)."""
     settings = settings or SelectionSettings()
     if encode is None:
-        from builders.selection.encoder import encode as minilm_encode
+        from talkdem.embeddings import encode as minilm_encode
 
         encode = minilm_encode
     candidates = one_seed_per_trial(seeds)

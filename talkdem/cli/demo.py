@@ -42,10 +42,10 @@ def register(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from builders.selection import format_diversity_table, load_diversity
     from talkdem.leaderboard import write_leaderboard
     from talkdem.llm.default_model import DEFAULT_BACKEND
     from talkdem.llm.registry import load_model
+    from talkdem.paths import data_dir
     from talkdem.planner.saycan import SayCanConfig
     from talkdem.planner.strategies import load_strategy
     from talkdem.report import score_runs, write_report
@@ -56,7 +56,9 @@ def run(args: argparse.Namespace) -> int:
 
     started = time.perf_counter()
     print("== 1. Task selection: mean pairwise MiniLM similarity (lower = more diverse) ==")
-    print(format_diversity_table(load_diversity()))
+    # The table the selection wrote with the dataset (the demo reads it; it never rebuilds the selection).
+    saved = (data_dir() / "selection" / "diversity.md").read_text(encoding="utf-8")
+    print("\n".join(line for line in saved.splitlines() if line.startswith("|")))
 
     conditions = (Condition(CLEAN, 0), *(Condition(pattern, args.level) for pattern in PATTERN_CONFIGS))
     episodes = select_episodes(conditions, args.tasks)

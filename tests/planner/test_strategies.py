@@ -1,12 +1,10 @@
-"""Strategies: what each shows the planner; CARE retrieval over the real memory bank."""
+"""Strategies: what each shows the planner (CARE has its own tests under tests/care)."""
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 from scripted_lm import ScriptedLM
 
-from care.retrieval import top_k
 from talkdem.instructions import load_memory_bank
 from talkdem.planner.strategies import fixed_icl_demonstrations, load_strategy
 from talkdem.schema import PATTERN_CONFIGS
@@ -40,25 +38,3 @@ def test_icl_uses_five_fixed_examples_one_per_pattern() -> None:
     assert [by_text[d.instruction].condition.pattern for d in demos] == list(PATTERN_CONFIGS)
     assert len({by_text[d.instruction].task_type for d in demos}) == 5
     assert all(d.interpretation and d.plan[-1] == "done" for d in demos)
-
-
-def test_top_k_is_ordered_and_stable() -> None:
-    memory = np.eye(4)
-    query = np.array([[0.9, 0.1, 0.1, 0.0]])
-    assert top_k(query / np.linalg.norm(query), memory, 3) == [[0, 1, 2]]
-    with pytest.raises(ValueError):
-        top_k(query, memory, 5)
-
-
-@pytest.mark.slow
-def test_care_retrieves_from_the_same_task_for_a_memory_instruction(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
-    monkeypatch.setenv("TALKDEM_CACHE_DIR", str(tmp_path))
-    care = load_strategy("care")
-    memory = load_memory_bank()
-    probe = next(m for m in memory if m.condition.pattern == "intrusion" and m.condition.level == 3)
-    retrieved = care.retrieve([probe.instruction])[0]  # type: ignore[attr-defined]
-    assert retrieved[0].id == probe.id  # an instruction is most similar to itself
-    assert len(retrieved) == 3 and len({m.id for m in retrieved}) == 3
-    assert list(tmp_path.glob("care/memory-*.npy")), "memory embeddings are cached on disk"
-    prepared = care.prepare([probe.instruction], ScriptedLM(["done"]))[0]
-    assert len(prepared.demonstrations) == 3 and prepared.notes["retrieved"].startswith(probe.id)

