@@ -18,6 +18,7 @@ token such as SmolLM2. Scoring many continuations of one context (SayCan's inner
 
 from __future__ import annotations
 
+import itertools
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -191,8 +192,11 @@ class LlamaCppLM(LanguageModel):
         llm = self._llm
         self.tokens_evaluated += len(tokens)
         llm._ctx.kv_cache_seq_rm(-1, llm.n_tokens, -1)
-        for start in range(0, len(tokens), llm.n_batch):
-            batch = list(tokens[start : start + llm.n_batch])
+        bounds = [*range(0, len(tokens), llm.n_batch), len(tokens)]
+        if len(bounds) > 2 and bounds[-1] - bounds[-2] == 1:
+            bounds[-2] -= 1  # no one-token batch at the end either (see `_eval_tail`)
+        for start, end in itertools.pairwise(bounds):
+            batch = list(tokens[start:end])
             n_past = llm.n_tokens
             llm._batch.set_batch(batch=batch, n_past=n_past, logits_all=False)
             llm._ctx.decode(llm._batch)
