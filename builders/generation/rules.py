@@ -20,8 +20,8 @@ from dataclasses import dataclass
 
 from builders.generation import phrases as P
 from builders.generation.base import CLEAN, GenerationRequest
-from builders.markers.variety import openers
 from builders.lexicon import ALIASES, display_name, find_mentions, mentions_of
+from builders.markers.variety import openers
 from builders.task_terms import noun_phrase, request_body, state_kind, task_terms, verb_lemma
 from builders.verification.checks import Context
 from builders.verification.cues import EMPTY_SPEECH
@@ -245,7 +245,7 @@ class RulesGenerator:
         lead = rng.choice([x for x in P.WORD_SEARCH_LEADS if x.lower() not in openers(naming)])
         search = [f"{lead}, {rng.choice(P.WORD_SEARCH)}.", rng.choice(P.WORD_SEARCH_SELF)]
         rng.shuffle(search)
-        search = search if rng.random() < 0.5 else search[:1]  # pronoun share near the paper's 0.351
+        search = search if rng.random() < 0.65 else search[:1]  # pronoun share near the paper's 0.351
         return clean.join(body=f"{body[:start]}{stand_in} {tail}".rstrip(" ,"), after_end=[*search, naming])
 
     def object_substitution(self, task: Task, clean: _Clean, level: int, rng: random.Random) -> str:
@@ -346,7 +346,7 @@ class RulesGenerator:
     def _led(rng: random.Random, sentence: str, lead: str) -> str:
         """A sentence with an optional discourse lead-in ("Oh, we got ..."), never before another lead-in."""
         opener = sentence.split(",", 1)[0]
-        if "," in sentence and len(opener.split()) <= 2 or rng.random() < 0.35:
+        if ("," in sentence and len(opener.split()) <= 2) or rng.random() < 0.35:
             return sentence
         if not sentence.startswith(("I ", "I'", "Dad ", "Aunt ", "Everybody", "Grandad ", "Margaret")):
             sentence = sentence[:1].lower() + sentence[1:]

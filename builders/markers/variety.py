@@ -71,9 +71,9 @@ def _article_errors(text: str) -> set[str]:
     for match in _INDEFINITE.finditer(text):
         article, word = match.group(1).lower(), match.group(2).lower()
         vowel = word[0] in "aeiou"
-        if article == "a" and vowel and not word.startswith(_A_BEFORE_VOWEL):
-            errors.add(match.group(0).lower())
-        elif article == "an" and not vowel and not word.startswith(_AN_BEFORE_CONSONANT):
+        if (article == "a" and vowel and not word.startswith(_A_BEFORE_VOWEL)) or (
+            article == "an" and not vowel and not word.startswith(_AN_BEFORE_CONSONANT)
+        ):
             errors.add(match.group(0).lower())
     return errors | {m.group(0).lower() for m in _MASS.finditer(text)}
 
