@@ -238,7 +238,7 @@ DELAYED_REPAIRS = (
     "Oops, sorry, {name}, {name}.",
     "I mean {name}, {name}.",
     "Hmm, no, {name}, sorry. {Name}.",
-    "Oh, it's {name}, not {comp}.",
+    "Oh, not {comp}, it's {name}.",
     "Sorry, I should say {name}. {Name}.",
     "Or rather {name}. {Name}.",
 )
@@ -338,7 +338,8 @@ EMPTY_CORES = (
     "one thing and another",
     "that's the way of things",
 )
-EMPTY_TAGS = ("", "", ", you know", ", I suppose", ", really", ", you see", ", like", ", sort of", ", I mean")
+# Tags at the end of a sentence; only some count as empty speech for the verifier there (see rules.py).
+EMPTY_TAGS = ("", "", ", you know", ", I suppose", ", really", ", kind of", ", sort of", ", and all that")
 
 # --- Topic Drift -------------------------------------------------------------------------------------------------
 # {the} "the lamp", {a} "a lamp", {that} "that lamp"; the first stage stays near the task, later ones drift.
@@ -366,7 +367,7 @@ DRIFT_FAR = (
     "The bus used to stop right outside our door.",
     "My father whistled the same tune every morning.",
     "We kept chickens for a while, and a goat.",
-    "The winters were so cold back then.",
+    "The winters went on forever back then.",
     "I learned to swim in the river behind the mill.",
     "My sister still writes every birthday.",
     "We queued for everything in those days.",
@@ -421,7 +422,7 @@ INTRUSION_FOLLOW = (
     "It was the same last week.",
     "Nobody tells me anything.",
     "I'll have to check later.",
-    "The paper boy was late again.",
+    "The post came late again.",
     "I thought I heard something.",
     "Perhaps it was next door.",
     "My memory is hopeless today.",
@@ -431,9 +432,9 @@ INTRUSION_FOLLOW = (
     "Probably nothing at all.",
     "Always the way, isn't it.",
     "The nurse comes on Wednesdays.",
-    "Such a racket outside.",
-    "The clocks went back, didn't they.",
-    "I was going to phone somebody.",
+    "Such a commotion outside.",
+    "Summer time ended, didn't it.",
+    "I was going to ring somebody.",
     "There was something on the radio about it.",
     "My husband would have known.",
     "We had a storm like that once.",
@@ -481,22 +482,22 @@ INTRUSION_FRAGMENTS = (
     "Snow, maybe, later.",
     "The boiler, making that noise.",
     "Pension day, Thursday.",
-    "The window cleaner, due.",
+    "The gardener, due.",
     "Doctor's letter, somewhere.",
     "The vicar, Sunday, or was it.",
-    "Bins, tonight, or tomorrow?",
-    "The phone, did it ring?",
+    "Rubbish day, tonight, or tomorrow?",
+    "That noise, was it the door?",
     "Jimmy, my grandson, so tall now.",
     "Hairdresser, Friday, ten o'clock.",
     "The wind, so strong.",
     "Supper, what for supper.",
     "Tablets, taken? Taken.",
     "The radio, left on?",
-    "Mother's ring, somewhere safe.",
+    "Mother's brooch, put away.",
     "The gate, still open.",
     "Frost tonight, they said.",
     "Harold, gone now, years.",
-    "The library book, overdue.",
+    "The library, shut today.",
     "Post office, shut Wednesdays.",
     "Footsteps, upstairs?",
 )

@@ -315,7 +315,8 @@ class RulesGenerator:
         for lead, core in zip(leads, cores, strict=True):
             sentence = f"{lead}, {core}{rng.choice(P.EMPTY_TAGS)}."
             if not EMPTY_SPEECH.search(sentence):  # the verifier must recognise every empty sentence
-                sentence = f"{lead}, {core}, {rng.choice(('you know', 'you see', 'sort of', 'like'))}."
+                # "you see" and "like" count only between commas: end with a tag that counts anywhere
+                sentence = f"{lead}, {core}, {rng.choice(('you know', 'sort of', 'kind of', 'and all that'))}."
             sentences.append(sentence)
         if level == 1 and rng.random() < 0.4:  # a discourse marker opens the utterance
             lead = rng.choice(("Well", "Oh", "Um", "So", "Right"))
