@@ -66,7 +66,8 @@ CLOSINGS = ("",)
 
 # --- Referential Imprecision -------------------------------------------------------------------------------
 VAGUE_NOUNS = ("thing", "thingy", "whatsit", "whatchamacallit", "thingamajig", "doodad", "thingamabob")
-# Mostly without pronouns: the paper's Level 1 keeps the clean pronoun share (0.188 against 0.209).
+# A third name the speaker or listener (I mean, you know, you see, it's): the paper's Level 1 pronoun share (0.188)
+# dips below its clean one (0.209); ours stays just above clean, keeping the paper's arrow (see markers/paper.py).
 IMMEDIATE_CLARIFIERS = (
     "{vague}, I mean {name}",
     "{vague}, {name} really",
@@ -77,7 +78,7 @@ IMMEDIATE_CLARIFIERS = (
     "{vague}, the, {name}",
     "{vague}, or rather {name}",
     "{vague}, it's {name}",
-    "{vague}, {name}, yes",
+    "{vague}, you see, {name}",
     "{vague}, well, {name}",
     "{vague}, er, {name}",
 )

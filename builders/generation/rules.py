@@ -390,7 +390,7 @@ class RulesGenerator:
                 fragments.append(candidate)
             if len(fragments) == 3:
                 break
-        fragment = " ".join(fragments[: rng.choice((2, 3))])
+        fragment = " ".join(fragments[: rng.choice((2, 3, 3))])  # below Level 2's relevance by a margin
         span = Context(task, CLEAN, 0, body).request_span
         start = span[0] if span else 0
         restated = _lower_first(body[start:at].strip().rstrip(","))
