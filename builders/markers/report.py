@@ -9,8 +9,10 @@ from pathlib import Path
 from typing import Any
 
 from builders.markers.measures import MARKERS, PIPELINE, Markers, load_pipeline, text_markers
+from builders.markers.measures import relevance as sentence_relevance
+from builders.markers.paper import LEVEL_KEYS, PAPER, within
 
-__all__ = ["DIRECTIONS", "compare_dementiabank", "compute_cells", "directions", "run_markers"]
+__all__ = ["DIRECTIONS", "compare_dementiabank", "compute_cells", "compute_variety", "directions", "run_markers"]
 
 DIRECTIONS: tuple[tuple[str, str, int], ...] = (
     ("repair_rate", "object_substitution", +1),
@@ -28,15 +30,15 @@ DIRECTIONS: tuple[tuple[str, str, int], ...] = (
 """(marker, pattern, sign): the paper's Table "Comparison of linguistic markers", direction of the dementia shift."""
 
 
+_RELEVANCE_PATTERNS = frozenset(pattern for marker, pattern, _ in DIRECTIONS if marker == "relevance")
+
+
 def _markers_of(texts: Sequence[str], references: Sequence[str] | None) -> list[Markers]:
     nlp = load_pipeline()
     values = [text_markers(doc) for doc in nlp.pipe(texts, batch_size=256)]
     if references is not None:
-        from talkdem.embeddings import encode
-
-        a, b = encode(texts), encode(references)
-        for row, cosine in zip(values, (a * b).sum(axis=1), strict=True):
-            row["relevance"] = float(cosine)
+        for row, cosine in zip(values, sentence_relevance(texts, references), strict=True):
+            row["relevance"] = cosine
     return values
 
 
@@ -59,7 +61,8 @@ def compute_cells(data: Path, relevance: bool = True) -> dict[str, dict[str, lis
         for level in talk_dem.LEVELS:
             path = data / pattern / f"{talk_dem.split_name(level)}.parquet"
             rows = pq.read_table(path, columns=["instruction", "seed_instruction"]).to_pylist()
-            refs = [r["seed_instruction"] for r in rows] if relevance else None
+            # relevance only where the paper reports it: the sentence encoder is the slow part
+            refs = [r["seed_instruction"] for r in rows] if relevance and pattern in _RELEVANCE_PATTERNS else None
             cells[pattern][str(level)] = _markers_of([r["instruction"] for r in rows], refs)
     return cells
 
@@ -74,8 +77,9 @@ def directions(cells: dict[str, dict[str, list[Markers]]]) -> list[dict[str, Any
             continue
         values = {"clean": _mean(cells["clean"]["0"], marker)}
         values.update({lvl: _mean(cells[pattern][lvl], marker) for lvl in ("1", "2", "3")})
-        chain = [values[k] for k in ("clean", "1", "2", "3")]
+        chain = [values[k] for k in LEVEL_KEYS]
         holds = all(sign * (b - a) > 0 for a, b in pairwise(chain))
+        paper = dict(zip(LEVEL_KEYS, PAPER[(marker, pattern)], strict=True))
         out.append(
             {
                 "marker": marker,
@@ -85,6 +89,8 @@ def directions(cells: dict[str, dict[str, list[Markers]]]) -> list[dict[str, Any
                 "direction": sign,
                 "values": values,
                 "holds": holds,
+                "paper": paper,
+                "within_tolerance": {k: within(marker, paper[k], values[k]) for k in LEVEL_KEYS},
             }
         )
     return out
@@ -104,11 +110,9 @@ def compare_dementiabank(
         docs = nlp.pipe([c.text for c in chunks], batch_size=256)
         values[group] = [text_markers(doc, repairs=c.repairs) for doc, c in zip(docs, chunks, strict=True)]
         if reference_text:
-            from talkdem.embeddings import encode
-
-            emb, ref = encode([c.text for c in chunks]), encode([reference_text])
-            for row, cosine in zip(values[group], emb @ ref[0], strict=True):
-                row["relevance"] = float(cosine)
+            cosines = sentence_relevance([c.text for c in chunks], [reference_text] * len(chunks))
+            for row, cosine in zip(values[group], cosines, strict=True):
+                row["relevance"] = cosine
     out = []
     for marker, pattern, _ in DIRECTIONS:
         if marker not in values["control"][0] or marker not in level3[pattern][0]:
@@ -130,6 +134,23 @@ def compare_dementiabank(
                 "chunks": {"dementia": len(dem), "control": len(ctrl)},
             }
         )
+    return out
+
+
+def compute_variety(data: Path) -> dict[str, dict[str, dict[str, Any]]]:
+    """Variety figures (`builders.markers.variety`) per pattern and level of the shipped benchmark."""
+    import pyarrow.parquet as pq
+
+    import talk_dem
+    from builders.markers.variety import cell_variety
+
+    out: dict[str, dict[str, dict[str, Any]]] = {}
+    for pattern in talk_dem.PATTERNS:
+        out[pattern] = {}
+        for level in talk_dem.LEVELS:
+            path = data / pattern / f"{talk_dem.split_name(level)}.parquet"
+            rows = pq.read_table(path, columns=["instruction", "clean_instruction"]).to_pylist()
+            out[pattern][str(level)] = cell_variety([(r["instruction"], r["clean_instruction"]) for r in rows])
     return out
 
 
@@ -159,6 +180,7 @@ def run_markers(
         "relevance_encoder": "sentence-transformers/all-MiniLM-L6-v2" if relevance else None,
         "means": means,
         "directions": directions(cells),
+        "variety": compute_variety(folder),
     }
     if chat_dir is not None:
         level3 = {p: cells[p]["3"] for p in cells if p != "clean"}

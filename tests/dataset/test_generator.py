@@ -72,3 +72,23 @@ def test_registry_names_unknown_generators() -> None:
     assert get_generator("rules").name == "rules"
     with pytest.raises(ValueError, match="unknown generator"):
         get_generator("gpt-99")
+
+
+def test_substituted_nouns_take_agreeing_articles() -> None:
+    # the target's "a cooled" must not stay in front of a mass noun, nor "an" in front of a consonant
+    assert RulesGenerator._np("a", "cooled", "bread") == "some cooled bread"
+    assert RulesGenerator._np("an", "", "mug") == "a mug"
+    assert RulesGenerator._np("a", "", "apple") == "an apple"
+    assert RulesGenerator._np("the", "", "keys") == "the keys"
+
+
+def test_generated_variants_repeat_no_opener_and_keep_articles(tasks: tuple[Task, ...]) -> None:
+    from builders.markers.variety import article_errors, repeated_opener
+
+    for task in tasks[::10]:
+        clean = generate(task, "clean", 0)
+        for pattern in talk_dem.PATTERNS:
+            for level in talk_dem.LEVELS:
+                text = generate(task, pattern, level)
+                assert not repeated_opener(text), text
+                assert article_errors(text, clean) == 0, text

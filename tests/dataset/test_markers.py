@@ -123,3 +123,43 @@ def test_shipped_markers_are_reproduced() -> None:
     for entry in directions(compute_cells(DATA, relevance=False)):
         for key, value in entry["values"].items():
             assert math.isclose(value, stored[(entry["marker"], entry["pattern"])][key], rel_tol=1e-9)
+
+
+def test_tolerance_has_a_floor_near_zero() -> None:
+    from builders.markers.paper import tolerance, within
+
+    assert within("repair_rate", 0.0, 0.4) and not within("repair_rate", 0.0, 0.6)
+    assert within("discourse_markers", 8.97, 11.0) and not within("discourse_markers", 8.97, 11.5)
+    assert tolerance("relevance", 0.957) == 0.25 * 0.957
+
+
+def test_relevance_is_sentence_level() -> None:
+    from builders.markers.measures import relevance, sentences
+
+    assert sentences("Hi, put it there. Oh! Is it? yes.") == ["Hi, put it there.", "Oh!", "Is it?", "yes."]
+    seed = "Put the apple on the table."
+    on_task, drifted, far = relevance(
+        [
+            "Could you put the apple on the table?",
+            "Could you put the apple on the table? My brother had a red bicycle.",
+            "Could you put the apple on the table? My brother had a red bicycle. The summers were long then.",
+        ],
+        [seed] * 3,
+    )
+    assert on_task > 0.8 and on_task > drifted > far  # each off-task sentence takes its share
+
+
+def test_shipped_markers_are_near_the_papers_table() -> None:
+    """Issue 14: at least 35 of the 44 cells within tolerance of the paper's; every marker in its direction."""
+    from builders.markers.paper import LEVEL_KEYS, PAPER, within
+
+    markers = json.loads((DATA / "markers.json").read_text())
+    inside = 0
+    for entry in markers["directions"]:
+        paper = PAPER[(entry["marker"], entry["pattern"])]
+        inside += sum(within(entry["marker"], p, entry["values"][k]) for p, k in zip(paper, LEVEL_KEYS, strict=True))
+    assert len(markers["directions"]) == len(PAPER) == 11
+    assert inside >= 35, f"only {inside} of 44 marker cells are within tolerance of the paper's"
+    assert all(d["holds"] for d in markers["directions"])
+    card = (DATA / "README.md").read_text()
+    assert f"**{inside} of 44 cells**" in card
