@@ -301,7 +301,7 @@ def write_dataset(
     units: dict[str, list[dict[str, Any]]],
     build_info: dict[str, Any],
 ) -> tuple[list[Path], dict[str, Any]]:
-    from builders.card import render_card
+    from builders.card import write_card
 
     bench_rows = [row for task in benchmark for row in units[f"benchmark:{task.task_id}"]]
     instruction_features = features("instruction")
@@ -350,7 +350,7 @@ def write_dataset(
         },
     }
     written.append(_write_text(folder / "build_stats.json", json.dumps(stats, indent=2) + "\n"))
-    written.append(_write_text(folder / "README.md", render_card(stats, folder)))
+    written += write_card(folder, stats)
     return written, stats
 
 
@@ -370,14 +370,12 @@ def build(
     tasks_folder: Path | None = None,
     progress: bool = True,
     throttle: float = 0.0,
-    card_copy: Path | None = None,
     limit: int | None = None,
 ) -> BuildResult:
     """Generate, verify and write the whole dataset into `folder` (default `data/`).
 
     `tasks_folder` is where `tasks/benchmark.jsonl` and `tasks/memory.jsonl` are read (default `data/`).
     `throttle` sleeps that many seconds after each unit (used by the kill-and-resume test).
-    `card_copy`, if given, receives a copy of the card (the repository's `dataset_card.md`).
     `limit`, if given, builds only the first `limit` benchmark tasks and memory tasks (a smoke build of a
     slow generator); the dataset written is then partial and says so in its statistics.
     """
@@ -393,7 +391,7 @@ def build(
     check_output_folder(folder)
     path = checkpoint or default_checkpoint(gen.name, seed, limit)
     with _checkpoint_lock(path):
-        return _build_locked(gen, folder, benchmark, memory, path, seed, progress, throttle, card_copy)
+        return _build_locked(gen, folder, benchmark, memory, path, seed, progress, throttle)
 
 
 def _build_locked(
@@ -405,7 +403,6 @@ def _build_locked(
     seed: int,
     progress: bool,
     throttle: float,
-    card_copy: Path | None,
 ) -> BuildResult:
     from tqdm import tqdm
 
@@ -432,7 +429,5 @@ def _build_locked(
 
     build_info = {"generator": gen.name, "prompt_version": gen.prompt_version, "seed": seed}
     files, stats = write_dataset(folder, benchmark, memory, units, build_info)
-    if card_copy is not None:
-        files.append(_write_text(card_copy, (folder / "README.md").read_text(encoding="utf-8")))
     path.unlink()
     return BuildResult(folder, tuple(files), stats, resumed)

@@ -12,7 +12,7 @@ from typing import Any
 
 from talkdem.schema import ALL, CLEAN, MEMORY_BANK, PATTERN_CONFIGS, PATTERNS, TASKS, data_files
 
-__all__ = ["configs_yaml", "markers_table", "render_card"]
+__all__ = ["configs_yaml", "markers_table", "render_card", "write_card"]
 
 
 def configs_yaml() -> str:
@@ -447,3 +447,21 @@ and are not reproduced here; `talkdem markers --chat-dir DIR` computes them from
 ALFRED is released under the MIT license; its license text is kept with the seed pool. REI-Bench curated the
 seed instruction pool.
 """
+
+
+def write_card(folder: Path, stats: dict[str, Any]) -> list[Path]:
+    """The one writer of the card: `folder/README.md` (what `datasets` and the Hub read) and, when `folder` is
+    the checkout's `data/`, the same bytes as the repository's `dataset_card.md`. Returns the paths written."""
+    import os
+
+    from talkdem.paths import repo_root
+
+    text = render_card(stats, folder)
+    targets = [folder / "README.md"]
+    if folder.resolve() == (repo_root() / "data").resolve():
+        targets.append(repo_root() / "dataset_card.md")
+    for target in targets:
+        scratch = target.with_name(target.name + ".tmp")
+        scratch.write_text(text, encoding="utf-8")
+        os.replace(scratch, target)
+    return targets

@@ -165,8 +165,8 @@ def run_markers(
     """Compute the markers, write `markers.json` and refresh the card (`README.md`, `dataset_card.md`)."""
     from importlib.metadata import version
 
-    from builders.card import markers_table, render_card
-    from talkdem.paths import data_dir, repo_root
+    from builders.card import markers_table, write_card
+    from talkdem.paths import data_dir
 
     folder = Path(data) if data else data_dir()
     cells = compute_cells(folder, relevance)
@@ -192,8 +192,5 @@ def run_markers(
         (folder / "markers.md").write_text(report["table"] + "\n")
         stats_file = folder / "build_stats.json"
         if stats_file.is_file():
-            card = render_card(json.loads(stats_file.read_text()), folder)
-            (folder / "README.md").write_text(card)
-            if folder.resolve() == (repo_root() / "data").resolve():
-                (repo_root() / "dataset_card.md").write_text(card)
+            write_card(folder, json.loads(stats_file.read_text()))
     return report

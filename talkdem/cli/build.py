@@ -35,9 +35,6 @@ def register(subparsers: Any) -> None:
     parser.add_argument("--tasks-dir", type=Path, help="folder holding tasks/*.jsonl (default: data/)")
     parser.add_argument("--checkpoint", type=Path, help="JSONL checkpoint (default: .cache/build/...)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
-    parser.add_argument(
-        "--card-copy", type=Path, help="also write the card here (default: dataset_card.md when --out is data/)"
-    )
     parser.add_argument("--throttle", type=float, default=0.0, help=argparse.SUPPRESS)  # resume tests
     parser.set_defaults(handler=run)
 
@@ -53,9 +50,6 @@ def run(args: argparse.Namespace) -> int:
     generator: Any = args.generator
     if args.generator == "llm":
         generator = _llm_generator(args)
-    card_copy = args.card_copy
-    if card_copy is None and Path(out).resolve() == (repo_root() / "data").resolve():
-        card_copy = repo_root() / "dataset_card.md"
     result = build(
         out,
         generator=generator,
@@ -64,7 +58,6 @@ def run(args: argparse.Namespace) -> int:
         tasks_folder=args.tasks_dir,
         progress=not args.no_progress,
         throttle=args.throttle,
-        card_copy=card_copy,
         limit=args.limit,
     )
     if result.resumed_units:
