@@ -11,22 +11,22 @@ import pkgutil
 import subprocess
 import sys
 
-import benchmarks
+import perf
 
 
 def main() -> None:
     failed = []
-    for module_info in sorted(pkgutil.iter_modules(benchmarks.__path__), key=lambda m: m.name):
+    for module_info in sorted(pkgutil.iter_modules(perf.__path__), key=lambda m: m.name):
         if module_info.name.startswith("_"):
             continue
-        name = f"benchmarks.{module_info.name}"
+        name = f"perf.{module_info.name}"
         if not hasattr(importlib.import_module(name), "main"):
             continue
         print(f"== {name} ==", flush=True)
         if subprocess.run([sys.executable, "-m", name], check=False).returncode != 0:
             failed.append(name)
     if failed:
-        sys.exit(f"benchmarks failed: {', '.join(failed)}")
+        sys.exit(f"perf benchmarks failed: {', '.join(failed)}")
 
 
 main()

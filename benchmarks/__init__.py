@@ -1,1 +1,0 @@
-"""Benchmarks run by `make bench`: each module prints ratios measured side by side in one run."""
