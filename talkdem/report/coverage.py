@@ -37,6 +37,14 @@ class Coverage:
     of_tasks: int
     task_set: str
     """sha256 (16 hex digits) of the sorted episodes (task, condition): equal for runs over the same episodes."""
+    episodes: int = 0
+    """Episodes on disk."""
+    planned_episodes: int | None = None
+    """Episodes the run was asked for (its header); None for runs that did not record it."""
+
+    @property
+    def complete(self) -> bool:
+        return self.planned_episodes is None or self.episodes >= self.planned_episodes
 
     @property
     def conditions(self) -> int:
@@ -50,7 +58,8 @@ class Coverage:
         """`24/300 tasks × 16/16 conditions`, with the range of tasks per condition when it varies."""
         counts = sorted({n for n in self.tasks_per_condition.values() if n})
         per = "" if len(counts) <= 1 else f" ({counts[0]}–{counts[-1]} per condition)"
-        return f"{self.tasks}/{self.of_tasks} tasks × {self.conditions}/{self.of_conditions} conditions{per}"
+        partial = "" if self.complete else f", INCOMPLETE: {self.episodes} of {self.planned_episodes} planned episodes"
+        return f"{self.tasks}/{self.of_tasks} tasks × {self.conditions}/{self.of_conditions} conditions{per}{partial}"
 
     @classmethod
     def from_json(cls, data: dict[str, Any]) -> Coverage:
@@ -59,6 +68,8 @@ class Coverage:
             tasks=int(data["tasks"]),
             of_tasks=int(data["of_tasks"]),
             task_set=str(data["task_set"]),
+            episodes=int(data.get("episodes", 0)),
+            planned_episodes=None if data.get("planned_episodes") is None else int(data["planned_episodes"]),
         )
 
     def to_json(self) -> dict[str, Any]:
@@ -69,10 +80,13 @@ class Coverage:
             "of_conditions": self.of_conditions,
             "tasks_per_condition": dict(self.tasks_per_condition),
             "task_set": self.task_set,
+            "episodes": self.episodes,
+            "planned_episodes": self.planned_episodes,
+            "complete": self.complete,
         }
 
 
-def coverage_of(scores: Scores) -> Coverage:
+def coverage_of(scores: Scores, planned_episodes: int | None = None) -> Coverage:
     per: dict[str, set[str]] = {condition_key(c): set() for c in CONDITIONS}
     for episode in scores.episodes:
         per[condition_key(episode.condition)].add(episode.task_id)
@@ -84,4 +98,6 @@ def coverage_of(scores: Scores) -> Coverage:
         tasks=len({e.task_id for e in scores.episodes}),
         of_tasks=benchmark_tasks(),
         task_set=digest[:16],
+        episodes=len(scores.episodes),
+        planned_episodes=planned_episodes,
     )

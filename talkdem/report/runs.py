@@ -63,7 +63,8 @@ class ScoredRun:
 
     @cached_property
     def coverage(self) -> Coverage:
-        return coverage_of(self.scores)
+        planned = self.header.config.get("planned_episodes")
+        return coverage_of(self.scores, planned if isinstance(planned, int) else None)
 
 
 def score_runs(run_dirs: Sequence[Path], *, bootstrap: int = 1000, seed: int = BOOTSTRAP_SEED) -> list[ScoredRun]:
