@@ -24,9 +24,23 @@ if TYPE_CHECKING:
     from talkdem.instructions import Instruction
     from talkdem.sim import EpisodeTrace
 
-__all__ = ["RUN_SCHEMA", "EpisodeRecord", "RecordError", "RunHeader"]
+__all__ = ["OUTCOME_KEYS", "RUN_SCHEMA", "EpisodeRecord", "RecordError", "RunHeader"]
 
 RUN_SCHEMA = "talkdem-run/1"
+
+OUTCOME_KEYS = (
+    "model",
+    "planner",
+    "strategy",
+    "prompt_version",
+    "dataset_hash",
+    "config.max_steps",
+    "config.scoring",
+    "config.mask_failed",
+    "config.mode",
+)
+"""Header fields (top level, or `config.NAME`) that change what an episode's outcome means: episodes that
+differ in any of them cannot be pooled into one run (resume and merge both check them)."""
 
 
 class RecordError(ValueError):

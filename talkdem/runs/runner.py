@@ -23,26 +23,15 @@ from talkdem.llm.base import LanguageModel
 from talkdem.planner.prompt import prompt_version
 from talkdem.planner.saycan import PlanResult, SayCanConfig, SayCanPlanner
 from talkdem.planner.strategies import PlannerInput, Strategy
-from talkdem.runs.records import EpisodeRecord, RunHeader
+from talkdem.runs.records import OUTCOME_KEYS, EpisodeRecord, RunHeader
 from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, EpisodeWriter, open_run, read_episodes, run_lock
 from talkdem.tasks import get_task
 
 __all__ = ["RESUME_KEYS", "RunSummary", "episode_record", "run_episodes"]
 
-# What must match for a run directory to be resumed with new episodes: everything that changes what an
-# episode's outcome means. The selection (conditions, sample size) may grow between sittings.
-RESUME_KEYS = (
-    "model",
-    "planner",
-    "strategy",
-    "prompt_version",
-    "dataset_hash",
-    "config.max_steps",
-    "config.scoring",
-    "config.mask_failed",
-    "config.mode",
-    "config.shard",  # a shard's folder must not take another shard's episodes (merge would refuse it)
-)
+# What must match for a run directory to be resumed with new episodes: what an outcome means, and the shard
+# (a shard's folder must not take another shard's episodes). The selection may grow between sittings.
+RESUME_KEYS = (*OUTCOME_KEYS, "config.shard")
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from talkdem.runs.records import EpisodeRecord, RunHeader
+from talkdem.runs.records import OUTCOME_KEYS, EpisodeRecord, RunHeader
 from talkdem.runs.store import EPISODES_FILE, read_episodes, read_header, run_lock, write_header
 
 if TYPE_CHECKING:
@@ -26,19 +26,7 @@ if TYPE_CHECKING:
 __all__ = ["MERGE_KEYS", "MergeResult", "Shard", "merge_runs", "parse_shard", "rewrite_episodes", "shard_of"]
 
 # What every shard must agree on: what an outcome means (the resume keys) and which episodes the run covers.
-MERGE_KEYS = (
-    "model",
-    "planner",
-    "strategy",
-    "prompt_version",
-    "dataset_hash",
-    "config.max_steps",
-    "config.scoring",
-    "config.mask_failed",
-    "config.mode",
-    "config.conditions",
-    "config.limit",
-)
+MERGE_KEYS = (*OUTCOME_KEYS, "config.conditions", "config.limit")
 
 
 @dataclass(frozen=True)
