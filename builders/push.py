@@ -35,18 +35,9 @@ def upload_plan(folder: Path) -> list[str]:
 
 def push(folder: Path, repo: str, *, private: bool = False, message: str = "Upload TALK-Dem") -> str:
     """Create the dataset repository if needed and upload the planned files; returns the commit URL."""
-    from huggingface_hub import HfApi
+    from talkdem.hub import upload
 
-    if repo.count("/") != 1:
-        raise ValueError(f"--repo must be ORG/NAME, got '{repo}'")
     upload_plan(folder)  # fails early on a folder without a card
-    api = HfApi()
-    api.create_repo(repo, repo_type="dataset", private=private, exist_ok=True)
-    commit = api.upload_folder(
-        repo_id=repo,
-        repo_type="dataset",
-        folder_path=str(folder),
-        allow_patterns=list(ALLOW_PATTERNS),
-        commit_message=message,
+    return upload(
+        folder, repo, repo_type="dataset", allow_patterns=list(ALLOW_PATTERNS), message=message, private=private
     )
-    return str(getattr(commit, "commit_url", commit))

@@ -12,11 +12,42 @@ import re
 from functools import cache
 from pathlib import Path
 
-__all__ = ["HubDatasetError", "dataset_snapshot", "is_repo_id"]
+__all__ = ["HubDatasetError", "dataset_snapshot", "is_repo_id", "names_hub_dataset", "upload"]
 
 _REPO_ID = re.compile(
     r"[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?/[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?"
 )
+
+
+def upload(
+    folder: Path,
+    repo: str,
+    *,
+    repo_type: str,
+    allow_patterns: list[str],
+    message: str,
+    private: bool = False,
+    space_sdk: str | None = None,
+) -> str:
+    """Create the Hub repository if needed and upload what `allow_patterns` selects from `folder`; returns
+    the commit URL. The one path to the Hub for the dataset, the leaderboard Space and its results."""
+    from huggingface_hub import HfApi
+
+    if not is_repo_id(repo):
+        raise ValueError(f"--repo must be ORG/NAME, got '{repo}'")
+    api = HfApi()
+    if space_sdk is None:
+        api.create_repo(repo, repo_type=repo_type, private=private, exist_ok=True)
+    else:
+        api.create_repo(repo, repo_type=repo_type, private=private, exist_ok=True, space_sdk=space_sdk)
+    commit = api.upload_folder(
+        repo_id=repo,
+        repo_type=repo_type,
+        folder_path=str(folder),
+        allow_patterns=allow_patterns,
+        commit_message=message,
+    )
+    return str(getattr(commit, "commit_url", commit))
 
 
 class HubDatasetError(FileNotFoundError):
@@ -24,8 +55,13 @@ class HubDatasetError(FileNotFoundError):
 
 
 def is_repo_id(text: str) -> bool:
-    """`ORG/NAME` as the Hub spells repository ids (and not a folder that exists here)."""
-    return bool(_REPO_ID.fullmatch(text)) and ".." not in text and not Path(text).exists()
+    """`ORG/NAME` as the Hub spells repository ids."""
+    return bool(_REPO_ID.fullmatch(text)) and ".." not in text
+
+
+def names_hub_dataset(text: str) -> bool:
+    """A data location that is a Hub id and not a folder here (a local `org/name` folder wins)."""
+    return is_repo_id(text) and not Path(text).exists()
 
 
 def _offline() -> bool:

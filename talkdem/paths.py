@@ -77,9 +77,9 @@ def data_dir(override: str | Path | None = None) -> Path:
     chosen = override or os.environ.get(DATA_DIR_ENV)
     if not chosen:
         return _checkout_or_bundled("data", "README.md")
-    from talkdem.hub import dataset_snapshot, is_repo_id
+    from talkdem.hub import dataset_snapshot, names_hub_dataset
 
-    return dataset_snapshot(str(chosen)) if is_repo_id(str(chosen)) else Path(chosen)
+    return dataset_snapshot(str(chosen)) if names_hub_dataset(str(chosen)) else Path(chosen)
 
 
 def evaluate_module_dir() -> Path:

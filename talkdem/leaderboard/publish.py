@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from talkdem.hub import upload
+
 __all__ = [
     "RESULTS_PATTERNS",
     "SPACE_PATTERNS",
@@ -60,41 +62,30 @@ def results_upload_plan(folder: Path) -> list[str]:
     return found
 
 
-def _url(commit: object) -> str:
-    return str(getattr(commit, "commit_url", commit))
-
-
 def publish_space(folder: Path, repo: str, *, private: bool = False, message: str = "Update leaderboard") -> str:
     """Create the static Space if needed and upload the folder; returns the commit URL."""
-    from huggingface_hub import HfApi
-
     _check_repo(repo)
     space_upload_plan(folder)
-    api = HfApi()
-    api.create_repo(repo, repo_type="space", space_sdk="static", private=private, exist_ok=True)
-    commit = api.upload_folder(
-        repo_id=repo,
+    return upload(
+        folder,
+        repo,
         repo_type="space",
-        folder_path=str(folder),
         allow_patterns=list(SPACE_PATTERNS),
-        commit_message=message,
+        message=message,
+        private=private,
+        space_sdk="static",
     )
-    return _url(commit)
 
 
 def publish_results(folder: Path, repo: str, *, private: bool = False, message: str = "Add results") -> str:
     """Create the results dataset if needed and upload `folder/results`; returns the commit URL."""
-    from huggingface_hub import HfApi
-
     _check_repo(repo)
     results_upload_plan(folder)
-    api = HfApi()
-    api.create_repo(repo, repo_type="dataset", private=private, exist_ok=True)
-    commit = api.upload_folder(
-        repo_id=repo,
+    return upload(
+        folder / "results",
+        repo,
         repo_type="dataset",
-        folder_path=str(folder / "results"),
         allow_patterns=list(RESULTS_PATTERNS),
-        commit_message=message,
+        message=message,
+        private=private,
     )
-    return _url(commit)

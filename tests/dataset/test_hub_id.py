@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 from builders.push import upload_plan
-from talkdem.hub import is_repo_id
+from talkdem.hub import is_repo_id, names_hub_dataset
 from talkdem.paths import repo_root
 
 COMMIT = "0123456789abcdef0123456789abcdef01234567"
@@ -59,3 +59,4 @@ def test_offline_without_a_cached_copy_fails_at_once_with_one_line(tmp_path: Pat
 def test_repo_ids_and_folders() -> None:
     assert is_repo_id("org/talk-dem") and not is_repo_id("talk-dem") and not is_repo_id("a/b/c")
     assert not is_repo_id("../x") and not is_repo_id(str(repo_root() / "data"))
+    assert not names_hub_dataset("data") and names_hub_dataset("org/not-a-local-folder")
