@@ -104,5 +104,32 @@ def run(args: argparse.Namespace) -> int:
     print(f"plots:       {', '.join(str(p) for p in files.plots)}")
     print(f"leaderboard: {next((p for p in pages if p.suffix == '.html'), pages[0])}")
     print(f"runs:        {', '.join(str(d) for d in run_dirs)}")
+    _print_committed_baseline()
     print(f"done in {time.perf_counter() - started:.0f} s")
     return 0
+
+
+BASELINE = Path("results") / "baseline"
+
+
+def _print_committed_baseline() -> None:
+    """The baseline committed with the repository, re-scored now (not re-run): labelled as what it is,
+    with each run's coverage (a partial run says INCOMPLETE)."""
+    from talkdem.paths import repo_root
+    from talkdem.report import score_runs, success_table
+
+    folder = repo_root() / BASELINE
+    run_dirs = sorted(p for p in folder.glob("*") if (p / "header.json").is_file()) if folder.is_dir() else []
+    print("\n== 4. The committed baseline (results/baseline: recorded runs re-scored now, not run by this demo) ==")
+    if not run_dirs:
+        print("no committed baseline in this installation (it ships with the repository, not the wheel)")
+        return
+    runs = score_runs(run_dirs, bootstrap=0)
+    for run in runs:
+        header = run.header
+        print(
+            f"- {run.label}: {run.coverage.describe()}; model revision {header.model.get('revision', '')[:12]}, "
+            f"code {header.code_revision[:12]}, dataset {header.dataset_hash[:12]}"
+        )
+    print(success_table(runs).to_markdown())
+    print(f"full report: {BASELINE / 'report' / 'report.md'}; leaderboard: {BASELINE / 'leaderboard' / 'index.html'}")

@@ -124,8 +124,8 @@ def success_table(runs: Sequence[ScoredRun]) -> Table:
         "success",
         "Task success rate: clean and change under each pattern",
         "Success rate (%) on clean instructions and the change in success rate (percentage points) of each "
-        "pattern, averaged over its three intensity levels. Two-sided paired t-test between the per-task mean "
-        f"over the levels and the clean outcome: {_STARS} {_LEGEND}",
+        "pattern, averaged over the intensity levels the run covers (all three on the full benchmark). Two-sided "
+        f"paired t-test between the per-task mean over those levels and the clean outcome: {_STARS} {_LEGEND}",
         ("Model", "Strategy", "n", "Clean", *(PATTERN_CODES[p] for p in PATTERN_CONFIGS)),
         tuple(rows),
     )
