@@ -1,6 +1,6 @@
 """What a published file may say about a run: no machine paths, and file names that never collide.
 
-Run headers record what the user typed (`--model /home/me/models/x.gguf`, a plan file's path, a server
+Run headers record what the user typed (`--model ~/models/x.gguf`, a plan file's path, a server
 URL). Results, reports and leaderboards are shared, so a model file is named by its file name and its
 content hash, configuration paths by their file name, and served endpoints not at all.
 """
