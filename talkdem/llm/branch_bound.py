@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from talkdem.llm.base import BestContinuation
 
-__all__ = ["BestContinuation", "Evaluate", "best_continuation"]
+__all__ = ["BestContinuation", "Evaluate", "best_continuation", "common_prefix_length"]
 
 Evaluate = Callable[[Sequence[int], int], Sequence[NDArray[np.float64]]]
 """`evaluate(path, keep)`: hold context + `path`, running only `path[keep:]` (the first `keep` tokens are still
@@ -70,7 +70,8 @@ def _path(trie: _Trie, node: int) -> list[int]:
     return tokens[::-1]
 
 
-def _common(a: Sequence[int], b: Sequence[int]) -> int:
+def common_prefix_length(a: Sequence[int], b: Sequence[int]) -> int:
+    """Leading tokens `a` and `b` share (how much of a held sequence a backend can keep)."""
     count = 0
     for x, y in zip(a, b, strict=False):
         if x != y:
@@ -123,7 +124,7 @@ def best_continuation(
             chain.append(only)
         path = _path(trie, chain[-1])
         start = trie.depths[item]
-        keep = min(_common(held, path), start)
+        keep = min(common_prefix_length(held, path), start)
         rows = evaluate(path, keep)
         held = path
         tokens_evaluated += len(path) - keep

@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
-from talkdem.llm.branch_bound import BestContinuation, best_continuation
+from talkdem.llm.branch_bound import BestContinuation, best_continuation, common_prefix_length
 from talkdem.llm.models import get_model, model_path
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
@@ -66,15 +66,6 @@ def _log_sum_exp(logits: NDArray[np.float32]) -> float:
     values = logits.astype(np.float64)
     peak = float(values.max())
     return peak + float(np.log(np.exp(values - peak).sum()))
-
-
-def _common_prefix(a: Sequence[int], b: Sequence[int]) -> int:
-    common = 0
-    for x, y in zip(a, b, strict=False):
-        if x != y:
-            break
-        common += 1
-    return common
 
 
 class LlamaCppLM(LanguageModel):
@@ -175,7 +166,7 @@ class LlamaCppLM(LanguageModel):
             return self._next_logprobs
         # Keep at least one token to evaluate, so that the last position's logits are fresh; two when there are
         # two, so that the batch is never a single token (see `_eval_tail`).
-        keep = min(_common_prefix(held, ids), max(len(ids) - 2, 0))
+        keep = min(common_prefix_length(held, ids), max(len(ids) - 2, 0))
         llm.n_tokens = keep
         self._next_logprobs = None
         self._next_logprobs = _log_softmax(self._eval_last_row(ids[keep:]))
@@ -234,7 +225,7 @@ class LlamaCppLM(LanguageModel):
             path = continuation[:-1]
             if not path:
                 continue
-            common = _common_prefix(held, path) if share_prefixes else 0
+            common = common_prefix_length(held, path) if share_prefixes else 0
             if common < len(path):
                 self._eval_tail(context, path, common)
                 held = path
