@@ -144,6 +144,9 @@ def run(args: argparse.Namespace) -> int:
             )
     if args.threads:
         options["threads"] = args.threads
+        # llama.cpp's kernels split work by thread count, which can move scores in the last digits: the
+        # header says how the run was computed (the last sitting's count, when a resume changed it).
+        extra["threads"] = args.threads
     urls = args.base_url or [None]
     if len(urls) > args.concurrency:
         raise ValueError(

@@ -5,6 +5,7 @@ own naive scorer, on a real SayCan prompt. Needs the `llamacpp` extra (`make tes
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -116,3 +117,14 @@ def test_missing_llama_cpp_names_the_extra(monkeypatch: pytest.MonkeyPatch) -> N
     monkeypatch.setitem(sys.modules, "llama_cpp", None)  # its import now fails, installed or not
     with pytest.raises(ImportError, match=r"\[llamacpp\]"):
         LlamaCppLM("default")
+
+
+def test_a_run_records_its_thread_count(tmp_path: Path) -> None:
+    # llama.cpp's results can move with the thread count, so a run header must say which one computed it.
+    from talkdem.cli import main
+    from talkdem.runs import read_header
+
+    out = tmp_path / "run"
+    command = ["run", "--backend", "llamacpp", "--model", "smollm2", "--threads", "1", "--conditions", "clean"]
+    assert main([*command, "--limit", "1", "--max-steps", "1", "--no-progress", "--out", str(out)]) == 0
+    assert read_header(out).config["threads"] == 1
