@@ -24,13 +24,12 @@ then runs every command on the Hub copy."""
 
 def upload_plan(folder: Path) -> list[str]:
     """The paths (relative to `folder`) that `push` uploads, in the order `upload_folder` sees them."""
-    from huggingface_hub.utils._paths import filter_repo_objects
+    from talkdem.hub import upload_plan as plan
 
     folder = Path(folder)
     if not (folder / "README.md").is_file():
         raise FileNotFoundError(f"{folder}: no README.md card (run `talkdem build` first)")
-    files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
-    return list(filter_repo_objects(files, allow_patterns=list(ALLOW_PATTERNS)))
+    return plan(folder, ALLOW_PATTERNS)
 
 
 def push(folder: Path, repo: str, *, private: bool = False, message: str = "Upload TALK-Dem") -> str:

@@ -12,7 +12,7 @@ import re
 from functools import cache
 from pathlib import Path
 
-__all__ = ["HubDatasetError", "dataset_snapshot", "is_repo_id", "names_hub_dataset", "upload"]
+__all__ = ["HubDatasetError", "dataset_snapshot", "is_repo_id", "names_hub_dataset", "upload", "upload_plan"]
 
 _REPO_ID = re.compile(
     r"[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?/[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?"
@@ -48,6 +48,15 @@ def upload(
         commit_message=message,
     )
     return str(getattr(commit, "commit_url", commit))
+
+
+def upload_plan(folder: Path, allow_patterns: list[str] | tuple[str, ...]) -> list[str]:
+    """The paths (relative to `folder`, sorted) that `upload` would send with these patterns: the Hub client's
+    own matcher decides, so a dry run lists exactly what an upload sends."""
+    from huggingface_hub.utils import filter_repo_objects  # type: ignore[attr-defined]  # re-exported, public
+
+    files = sorted(p.relative_to(folder).as_posix() for p in Path(folder).rglob("*") if p.is_file())
+    return list(filter_repo_objects(files, allow_patterns=list(allow_patterns)))
 
 
 class HubDatasetError(FileNotFoundError):

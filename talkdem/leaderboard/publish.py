@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from talkdem.hub import upload
+from talkdem.hub import upload, upload_plan
 
 __all__ = [
     "RESULTS_PATTERNS",
@@ -39,24 +39,16 @@ def check_space_folder(folder: Path) -> None:
         raise ValueError(f"{readme}: the front matter does not declare `sdk: static`")
 
 
-def _plan(folder: Path, patterns: tuple[str, ...]) -> list[str]:
-    # The hub's own pattern matcher, so the plan is what `upload_folder` sends (re-exported, not in `__all__`).
-    from huggingface_hub.utils import filter_repo_objects  # type: ignore[attr-defined]
-
-    files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
-    return list(filter_repo_objects(files, allow_patterns=list(patterns)))
-
-
 def space_upload_plan(folder: Path) -> list[str]:
     """Paths (relative to `folder`) a Space push uploads."""
     check_space_folder(folder)
-    return _plan(folder, SPACE_PATTERNS)
+    return upload_plan(folder, SPACE_PATTERNS)
 
 
 def results_upload_plan(folder: Path) -> list[str]:
     """Paths (relative to `folder/results`) a results push uploads."""
     check_space_folder(folder)
-    found = _plan(folder / "results", RESULTS_PATTERNS)
+    found = upload_plan(folder / "results", RESULTS_PATTERNS)
     if not any(p.endswith(".json") for p in found):
         raise ValueError(f"{folder / 'results'}: no results files")
     return found

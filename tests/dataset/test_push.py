@@ -57,7 +57,7 @@ def test_push_calls_upload_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatc
     upload = calls["upload"]
     assert upload["repo_id"] == "org/talk-dem" and upload["repo_type"] == "dataset"
     assert upload["folder_path"] == str(folder)
-    from huggingface_hub.utils._paths import filter_repo_objects
+    from huggingface_hub.utils import filter_repo_objects  # type: ignore[attr-defined]
 
     files = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
     assert list(filter_repo_objects(files, allow_patterns=upload["allow_patterns"])) == upload_plan(folder)
