@@ -17,57 +17,18 @@ from __future__ import annotations
 
 import heapq
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 
 from talkdem.llm.base import BestContinuation
+from talkdem.llm.token_trie import TokenTrie
 
 __all__ = ["BestContinuation", "Evaluate", "best_continuation", "common_prefix_length"]
 
 Evaluate = Callable[[Sequence[int], int], Sequence[NDArray[np.float64]]]
 """`evaluate(path, keep)`: hold context + `path`, running only `path[keep:]` (the first `keep` tokens are still
 held from the previous call); return the log-probability rows after `path[: j + 1]` for j = keep .. len - 1."""
-
-
-@dataclass
-class _Trie:
-    tokens: list[int]
-    parents: list[int]
-    depths: list[int]
-    children: list[dict[int, int]]
-    ends: list[int]
-    """The first candidate index ending at each node, or -1."""
-    roots: dict[int, int]
-
-
-def _build_trie(continuations: Sequence[Sequence[int]]) -> _Trie:
-    trie = _Trie([], [], [], [], [], {})
-    for index, continuation in enumerate(continuations):
-        parent, level = -1, trie.roots
-        for token in continuation:
-            node = level.get(token)
-            if node is None:
-                node = len(trie.tokens)
-                trie.tokens.append(token)
-                trie.parents.append(parent)
-                trie.depths.append(trie.depths[parent] + 1 if parent >= 0 else 0)
-                trie.children.append({})
-                trie.ends.append(-1)
-                level[token] = node
-            parent, level = node, trie.children[node]
-        if trie.ends[parent] == -1:  # duplicates: the earlier one wins, as in full scoring
-            trie.ends[parent] = index
-    return trie
-
-
-def _path(trie: _Trie, node: int) -> list[int]:
-    tokens = []
-    while node >= 0:
-        tokens.append(trie.tokens[node])
-        node = trie.parents[node]
-    return tokens[::-1]
 
 
 def common_prefix_length(a: Sequence[int], b: Sequence[int]) -> int:
@@ -97,7 +58,7 @@ def best_continuation(
         raise ValueError("no continuations to choose from")
     if any(len(c) == 0 for c in continuations):
         raise ValueError("every continuation must have at least one token")
-    trie = _build_trie(continuations)
+    trie = TokenTrie.of(continuations)
     scores = [0.0] * len(trie.tokens)
     queue: list[tuple[float, int, int]] = []
 
@@ -122,7 +83,7 @@ def best_continuation(
             if not trie.children[only]:
                 break
             chain.append(only)
-        path = _path(trie, chain[-1])
+        path = trie.path(chain[-1])
         start = trie.depths[item]
         keep = min(common_prefix_length(held, path), start)
         rows = evaluate(path, keep)

@@ -20,7 +20,6 @@ full forward pass of prompt + skill per candidate. Here:
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -28,46 +27,9 @@ import torch
 from numpy.typing import NDArray
 
 from talkdem.llm.branch_bound import BestContinuation, best_continuation
+from talkdem.llm.token_trie import TokenTrie
 
 __all__ = ["PrefixCachedScorer", "naive_scores"]
-
-
-@dataclass
-class _Trie:
-    """Trie nodes in creation order; node i predicts the token after its path."""
-
-    tokens: list[int] = field(default_factory=list)
-    parents: list[int] = field(default_factory=list)  # -1 = the context
-    depths: list[int] = field(default_factory=list)
-    children: list[dict[int, int]] = field(default_factory=list)
-    root_children: dict[int, int] = field(default_factory=dict)
-
-    def new_nodes(self, path: Sequence[int]) -> int:
-        """How many nodes inserting `path` would create."""
-        level = self.root_children
-        for depth, token in enumerate(path):
-            node = level.get(token)
-            if node is None:
-                return len(path) - depth
-            level = self.children[node]
-        return 0
-
-    def add_path(self, path: Sequence[int]) -> list[int]:
-        """Insert `path`, returning the node index of each of its prefixes."""
-        nodes = []
-        parent, level = -1, self.root_children
-        for token in path:
-            node = level.get(token)
-            if node is None:
-                node = len(self.tokens)
-                self.tokens.append(token)
-                self.parents.append(parent)
-                self.depths.append(self.depths[parent] + 1 if parent >= 0 else 0)
-                self.children.append({})
-                level[token] = node
-            nodes.append(node)
-            parent, level = node, self.children[node]
-        return nodes
 
 
 def _crop(cache: Any, length: int) -> None:
@@ -121,7 +83,7 @@ class PrefixCachedScorer:
         return self._next_logprobs
 
     @torch.no_grad()
-    def _packed_pass(self, trie: _Trie, prefix_length: int) -> torch.Tensor:
+    def _packed_pass(self, trie: TokenTrie, prefix_length: int) -> torch.Tensor:
         """Log-probabilities after every trie node, from one forward pass over the cached prefix."""
         count = len(trie.tokens)
         visible = torch.zeros(count, prefix_length + count, dtype=torch.bool)
@@ -177,7 +139,7 @@ class PrefixCachedScorer:
         pending = [i for i, c in enumerate(continuations) if len(c) > 1]
         start = 0
         while start < len(pending):
-            trie = _Trie()
+            trie = TokenTrie()
             paths: dict[int, list[int]] = {}
             end = start
             while end < len(pending):

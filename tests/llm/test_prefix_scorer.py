@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from talkdem.llm.hf import HFCausalLM
-from talkdem.llm.prefix_scorer import PrefixCachedScorer, _Trie
+from talkdem.llm.prefix_scorer import PrefixCachedScorer
 from talkdem.llm.requests import LoglikelihoodRequest
 from talkdem.skills import vocabulary
 
@@ -21,14 +21,6 @@ PROMPT = (
 )
 SKILLS = [" " + skill.text for skill in vocabulary()]
 SAMPLE = SKILLS[::19]  # 12 candidates across every verb: the naive scorer costs a full pass each
-
-
-def test_trie_shares_common_beginnings() -> None:
-    trie = _Trie()
-    assert trie.add_path([5, 6, 7]) == [0, 1, 2]
-    assert trie.new_nodes([5, 6, 8]) == 1
-    assert trie.add_path([5, 6, 8]) == [0, 1, 3]
-    assert trie.parents == [-1, 0, 1, 1] and trie.depths == [0, 1, 2, 2]
 
 
 @pytest.fixture(scope="module")
