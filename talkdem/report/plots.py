@@ -165,7 +165,8 @@ def retention_figure(runs: Sequence[ScoredRun]) -> Any:
                 finite = [v for v in column if not math.isnan(v)]
                 mean.append(sum(finite) / len(finite) if len(finite) == len(column) else math.nan)
             mean_label = f"mean of the {len(shown)} runs (same episodes)"
-            ax.plot(LEVELS, mean, color="black", linewidth=2.5, label=mean_label)
+            # A wide dash marker keeps the mean visible where a run covers one level (a line needs two points).
+            ax.plot(LEVELS, mean, color="black", linewidth=2.5, marker="_", markersize=16, mew=2.5, label=mean_label)
         ax.axhline(100, color="gray", linestyle="--", linewidth=1)
         ax.set_xticks(LEVELS, [f"L{level}" for level in LEVELS])
         ax.set_title(PATTERN_LABELS[pattern], fontsize=9)

@@ -97,6 +97,9 @@ def test_retention_averages_only_runs_over_the_same_episodes(mixed_runs: list[Sc
 
     same = [r for r in mixed_runs if r.run_dir.name in {"a", "b"}]
     assert "mean of the 2 runs (same episodes)" in labels(same)
+    # A run over one level gives one point per pattern: the mean needs a marker to show without a line.
+    means = [ln for ax in retention_figure(same).axes for ln in ax.lines if ln.get_label().startswith("mean")]
+    assert means and all(ln.get_marker() not in (None, "", "None", " ") and ln.get_markersize() >= 8 for ln in means)
     assert not any(label.startswith("mean") for label in labels(mixed_runs))  # different coverage, oracle
     assert not any("oracle" in label for label in labels(mixed_runs))
 
