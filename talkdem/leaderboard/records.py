@@ -39,12 +39,18 @@ def _rate(value: float | None) -> float | None:
     return None if value is None or math.isnan(value) else round(float(value), 4)
 
 
-def model_dtype(model_name: str, config: dict[str, Any]) -> str:
+def model_dtype(model_name: str, config: dict[str, Any], revision: str = "") -> str:
     """The weights' precision as far as the run knows it: a GGUF quantisation from the file name
-    (`Q4_1`), a configured dtype, else `unknown`."""
+    (`Q4_1`), the catalog's quantisation for a short name whose file hash is the run's (`qwen2.5-coder-0.5b`:
+    Q4_K_M), a configured dtype, else `unknown`."""
+    from talkdem.llm.models import get_model
+
     found = _QUANT.search(model_name)
     if found:
         return found.group(1).upper()
+    spec = get_model(model_name)
+    if spec is not None and revision and spec.sha256 == revision:
+        return spec.quantization
     configured = config.get("dtype") or config.get("torch_dtype")
     return str(configured) if configured else "unknown"
 
@@ -104,7 +110,7 @@ def results_record(run: ScoredRun) -> dict[str, Any]:
         "config": {
             "model_name": model["name"],
             "model_sha": model["revision"],
-            "model_dtype": model_dtype(raw_name, header.config),
+            "model_dtype": model_dtype(raw_name, header.config, header.model.get("revision", "")),
             "model_backend": model["backend"],
             "model_file": model["name"] if is_machine_path(raw_name) else "",
             "planner": header.planner,

@@ -10,6 +10,7 @@ import pytest
 
 from talkdem.cli import main
 from talkdem.leaderboard import RESULTS_SCHEMA, model_dtype, rank_records, read_results, results_record
+from talkdem.llm.models import get_model
 from talkdem.report import score_runs
 from talkdem.schema import PATTERN_CONFIGS
 
@@ -99,6 +100,10 @@ def test_model_dtype_and_bad_results_files(tmp_path: Path, capsys: pytest.Captur
     assert model_dtype("x/SmolLM2-135M-Instruct.Q4_1.gguf", {}) == "Q4_1"
     assert model_dtype("org/model", {"dtype": "bfloat16"}) == "bfloat16"
     assert model_dtype("org/model", {}) == "unknown"
+    default = get_model("default")
+    assert default is not None
+    assert model_dtype(default.name, {}, default.sha256) == default.quantization == "Q4_K_M"
+    assert model_dtype(default.name, {}, "0" * 64) == "unknown"  # another file under the same name: not known
     (tmp_path / "old.json").write_text(json.dumps({"schema": "talkdem-results/1"}))
     with pytest.raises(ValueError, match=r"old\.json: not a talkdem-results/2"):
         read_results(tmp_path)
