@@ -26,6 +26,7 @@ from talkdem.cli import (
     score,
     select,
     simulate,
+    split,
     tasks,
     verify,
 )
@@ -43,6 +44,7 @@ _COMMANDS = (
     markers,
     push,
     run,
+    split,
     merge,
     score,
     report,

@@ -2,6 +2,10 @@
 `merge_runs` joins the shard directories into one run directory that `report` and `leaderboard` read like any
 other.
 
+`split_run` turns a run already under way into shard directories, each seeded with the finished episodes
+that belong to it (optionally for a larger selection: more conditions or tasks), so that the rest can go on
+on several machines and be merged back; nothing finished is run twice.
+
 The slice: the run's episode ids sorted, every N-th from the I-th (so each shard gets every task type and
 condition in about equal share); an episode belongs to exactly one shard whatever the machine. Merging refuses
 shards of different runs (the keys that change what an outcome means, and the selection), shards of different
@@ -23,7 +27,18 @@ from talkdem.runs.store import EPISODES_FILE, read_episodes, read_header, run_lo
 if TYPE_CHECKING:
     from talkdem.instructions import Instruction
 
-__all__ = ["MERGE_KEYS", "MergeResult", "Shard", "merge_runs", "parse_shard", "rewrite_episodes", "shard_of"]
+__all__ = [
+    "MERGE_KEYS",
+    "MergeResult",
+    "Shard",
+    "SplitShard",
+    "merge_runs",
+    "parse_shard",
+    "rewrite_episodes",
+    "shard_folder",
+    "shard_of",
+    "split_run",
+]
 
 # What every shard must agree on: what an outcome means (the resume keys) and which episodes the run covers.
 MERGE_KEYS = (*OUTCOME_KEYS, "config.conditions", "config.limit")
@@ -150,3 +165,75 @@ def merge_runs(out: Path, shard_dirs: Sequence[Path], allow_incomplete: bool = F
         write_header(out, RunHeader(**{**first.__dict__, "config": config}))
         rewrite_episodes(out, [by_id[i] for i in selection if i in by_id])
     return MergeResult(out, len(by_id), missing)
+
+
+@dataclass(frozen=True)
+class SplitShard:
+    run_dir: Path
+    shard: Shard
+    seeded: int
+    """Finished episodes copied in from the split run."""
+    planned: int
+
+
+def shard_folder(out: Path, shard: Shard) -> Path:
+    """Where `split_run` puts a shard: `OUT/shard-I-of-N`."""
+    return out / f"shard-{shard.index}-of-{shard.count}"
+
+
+def split_run(
+    run_dir: Path, count: int, out: Path, conditions: str | None = None, limit: int | None = None
+) -> list[SplitShard]:
+    """Split the `talkdem run` directory `run_dir` into `count` shard directories under `out` (new or empty).
+
+    The selection is the run's own (its header's conditions and sample size) unless `conditions` or `limit`
+    give a larger one; every finished episode must belong to it. Each shard's header is the run's, with the
+    shard and the new selection, so `talkdem run --shard I/N --out OUT/shard-I-of-N` with the run's settings
+    resumes it, and `talkdem merge` joins the shards back into one run.
+    """
+    from talkdem.runs.sampling import select_episodes
+    from talkdem.schema import parse_conditions
+
+    if count < 2:
+        raise ValueError(f"split into at least 2 shards, not {count}")
+    with run_lock(run_dir):
+        header = read_header(run_dir)
+        done = {episode.episode_id: episode for episode in read_episodes(run_dir)}
+    if header.config.get("shard"):
+        raise ValueError(f"{run_dir}: is shard {header.config['shard']} of a run; merge the shards and split the merge")
+    if "conditions" not in header.config:
+        raise ValueError(f"{run_dir}: not a `talkdem run` directory (its header records no episode selection)")
+    recorded = header.config.get("conditions")
+    text = conditions if conditions is not None else ",".join(recorded) if isinstance(recorded, list) else None
+    recorded_limit = header.config.get("limit")
+    size = limit if limit is not None else recorded_limit if isinstance(recorded_limit, int) else None
+    parsed = parse_conditions(text)
+    selection = select_episodes(parsed, size)
+    selected = {instruction.id for instruction in selection}
+    stray = sorted(set(done) - selected)
+    if stray:
+        raise ValueError(
+            f"{run_dir}: episode {stray[0]} is not in the selection to split ({len(stray)} finished episodes are "
+            "not); give --conditions and --limit that include the run's own"
+        )
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise ValueError(f"{out}: exists and is not an empty folder; choose a new OUT")
+    shards = []
+    for index in range(1, count + 1):
+        shard = Shard(index, count)
+        mine = shard_of(selection, shard)
+        folder = shard_folder(out, shard)
+        folder.mkdir(parents=True)
+        config = {
+            **header.config,
+            "conditions": [str(c) for c in parsed],
+            "limit": size,
+            "shard": str(shard),
+            "planned_episodes": len(mine),
+        }
+        with run_lock(folder):
+            write_header(folder, RunHeader(**{**header.__dict__, "config": config}))
+            seeded = [done[i.id] for i in mine if i.id in done]
+            rewrite_episodes(folder, seeded)
+        shards.append(SplitShard(folder, shard, len(seeded), len(mine)))
+    return shards
