@@ -21,6 +21,7 @@ from talkdem.report.tables import (
     retention_table,
     strategy_retention_table,
     strategy_success_tables,
+    strategy_success_test_table,
     success_table,
 )
 from talkdem.report.write import ReportFiles, write_report
@@ -52,6 +53,7 @@ __all__ = [
     "strategy_label",
     "strategy_retention_table",
     "strategy_success_tables",
+    "strategy_success_test_table",
     "success_table",
     "unique_stems",
     "write_report",

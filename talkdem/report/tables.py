@@ -43,6 +43,7 @@ __all__ = [
     "retention_table",
     "strategy_retention_table",
     "strategy_success_tables",
+    "strategy_success_test_table",
     "success_table",
 ]
 
@@ -257,6 +258,63 @@ def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE",
     )
 
 
+def _task_success(run: ScoredRun, shared: set[tuple[str, str]]) -> dict[str, float]:
+    """Per-task success rate over the (task, condition) pairs in `shared`."""
+    outcomes: dict[str, list[bool]] = {}
+    for episode in run.scores.episodes:
+        if (episode.task_id, str(episode.condition)) in shared:
+            outcomes.setdefault(episode.task_id, []).append(episode.success)
+    return {task: sum(v) / len(v) for task, v in outcomes.items()}
+
+
+def strategy_success_test_table(runs: Sequence[ScoredRun], reference: str = "CARE") -> Table | None:
+    """Each strategy's success rate against the reference strategy's, per model, on the episodes both runs
+    cover: the difference of the per-task success rates (over those conditions) with a paired t-test over
+    tasks. Unlike the retention tests it counts every episode, solved clean or not."""
+    rows: list[tuple[str, ...]] = []
+    for model, group in _by_model(runs).items():
+        strategies = [r.strategy for r in group]
+        chosen = reference if reference in strategies else strategies[-1]
+        references = [r for r in group if r.strategy == chosen]
+        if len(group) < 2 or len(references) != 1:
+            continue  # one reference run per model, or the comparison would be ambiguous
+        (base,) = references
+        covered = {(e.task_id, str(e.condition)) for e in base.scores.episodes}
+        for run in group:
+            if run is base:
+                continue
+            shared = covered & {(e.task_id, str(e.condition)) for e in run.scores.episodes}
+            if not shared:
+                continue
+            mine, theirs = _task_success(run, shared), _task_success(base, shared)
+            tasks = sorted(mine)
+            test = paired_ttest([mine[t] for t in tasks], [theirs[t] for t in tasks])
+            rows.append(
+                (
+                    model,
+                    run.strategy,
+                    chosen,
+                    str(len(tasks)),
+                    str(len({condition for _, condition in shared})),
+                    _pct(sum(mine.values()) / len(mine)),
+                    _pct(sum(theirs.values()) / len(theirs)),
+                    _signed_pp(test.mean_difference, test.p_value),
+                    "–" if math.isnan(test.p_value) else f"{test.p_value:.3f}",
+                )
+            )
+    if not rows:
+        return None
+    return Table(
+        "strategy_success_test",
+        "Task success rate of each strategy against the reference strategy",
+        "Success rate (%) of each strategy and of the reference strategy on the episodes both runs cover (tasks "
+        "x conditions, clean included), and the difference in percentage points (strategy minus reference) of "
+        f"the per-task success rates, with a two-sided paired t-test over tasks: {_STARS}",
+        ("Model", "Strategy", "Reference", "Tasks", "Conditions", "SR", "Reference SR", "Δ", "p"),
+        tuple(rows),
+    )
+
+
 def hazard_table(runs: Sequence[ScoredRun]) -> Table:
     """Appendix "Hazard Detection Rules" table: introduced events by category and pattern, runs pooled."""
     counts = introduced_hazards([e for r in runs for e in r.scores.episodes])
@@ -334,5 +392,8 @@ def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE") -> l
         found = strategy_retention_table(planner_runs, reference_strategy, by=by) if planner_runs else None
         if found is not None:
             tables.append(found)
+    tested = strategy_success_test_table(planner_runs, reference_strategy) if planner_runs else None
+    if tested is not None:
+        tables.append(tested)
     tables += [hazard_table(runs), error_table(runs), plan_length_table(runs)]
     return tables

@@ -50,6 +50,12 @@ def test_tables_have_the_paper_layouts(run_dirs: list[Path]) -> None:
     per_strategy = tables["strategies_1"]
     assert per_strategy.rows[0][2:] == ("100.00", "100.00"), "a tie has no best: nothing bold"
     assert per_strategy.rows[3][2:] == ("25.00", "**100.00**")  # Referential Imprecision L3
+    # CARE - Vanilla per task over all 16 conditions: 0 for BOOK, 5/16 for the other three -> +23.4 points;
+    # 4 tasks are too few for significance (paired t = 3.0, p ~ 0.058): no star
+    (tested,) = tables["strategy_success_test"].rows
+    assert tested[:5] == ("tiny-model", "Vanilla", "CARE", "4", "16")
+    assert tested[5:8] == ("76.6", "100.0", "-23.4")
+    assert 0.05 < float(tested[8]) < 0.07
     assert tables["errors"].rows[-1][-1] == str(3 * 5)  # 3 failed level-3 episodes per pattern, all typed
     assert tables["plan_length"].columns == ("Pattern", "n", "Clean", "Transformed", "Δ")
     assert tables["hazards"].rows[-2][0] == "Distinct cases"
