@@ -225,7 +225,7 @@ def split_run(
         folder = shard_folder(out, shard)
         folder.mkdir(parents=True)
         config = {
-            **header.config,
+            **{k: v for k, v in header.config.items() if k != "merged_from"},  # merge writes its own
             "conditions": [str(c) for c in parsed],
             "limit": size,
             "shard": str(shard),
