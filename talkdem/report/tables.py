@@ -287,14 +287,13 @@ def strategy_success_test_table(runs: Sequence[ScoredRun], reference: str = "CAR
             if not shared:
                 continue
             mine, theirs = _task_success(run, shared), _task_success(base, shared)
-            tasks = sorted(mine)
-            test = paired_ttest([mine[t] for t in tasks], [theirs[t] for t in tasks])
+            test = _versus(mine, theirs)
             rows.append(
                 (
                     model,
                     run.strategy,
                     chosen,
-                    str(len(tasks)),
+                    str(test.n),
                     str(len({condition for _, condition in shared})),
                     _pct(sum(mine.values()) / len(mine)),
                     _pct(sum(theirs.values()) / len(theirs)),
