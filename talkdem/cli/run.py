@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from talkdem.cli.arguments import non_negative_int, positive_int
+from talkdem.sim.seam import DEFAULT_MAX_STEPS
 
 __all__ = ["register"]
 
@@ -28,7 +29,7 @@ def register(subparsers: Any) -> None:
         "--limit", type=positive_int, help="number of tasks (stratified over task types; default: all 300)"
     )
     parser.add_argument("--out", type=Path, help="run directory (default: runs/<model>-<strategy>); resumes")
-    parser.add_argument("--max-steps", type=positive_int, default=30)
+    parser.add_argument("--max-steps", type=positive_int, default=DEFAULT_MAX_STEPS)
     parser.add_argument("--scoring", choices=["sum", "mean"], default="sum", help="skill score: sum or mean log-prob")
     parser.add_argument(
         "--planner",

@@ -24,7 +24,8 @@ from talkdem.sim.goals import check_goals
 from talkdem.sim.hazards import HazardMonitor
 from talkdem.sim.parser import canonical_text, parse_skill
 from talkdem.sim.state import ObjectSpec, SimState
-from talkdem.sim.trace import EndReason, EpisodeTrace, PlanAnalysis, StepRecord
+from talkdem.sim.seam import DEFAULT_MAX_STEPS, LimitedSteps, execute_plan
+from talkdem.sim.trace import EpisodeTrace, PlanAnalysis, StepRecord
 from talkdem.skills import Skill, SkillVerb
 
 __all__ = [
@@ -272,19 +273,14 @@ class AI2ThorExecutor:
         ]
         controller.step(dict(action="SetObjectPoses", objectPoses=poses))
 
-    def run(self, task: SeedTask, plan: Sequence[str], *, max_steps: int = 30) -> EpisodeTrace:
+    def start(self, task: SeedTask, *, max_steps: int = DEFAULT_MAX_STEPS) -> _ThorEpisode:
+        """The simulator seam: a live episode on the controller (one at a time: it owns the scene)."""
         controller = self._start(task.floor_plan)
         self._restore(controller, task)
-        episode = _ThorEpisode(controller, task)
-        end = EndReason.PLAN_EXHAUSTED
-        for index, text in enumerate(plan):
-            if index >= max_steps:
-                end = EndReason.STEP_LIMIT
-                break
-            if episode.step(text).parsed == "done":
-                end = EndReason.DONE
-                break
-        return episode.finish(end, self.name)
+        return _ThorEpisode(controller, task, max_steps, self.name)
+
+    def run(self, task: SeedTask, plan: Sequence[str], *, max_steps: int = DEFAULT_MAX_STEPS) -> EpisodeTrace:
+        return execute_plan(self, task, plan, max_steps=max_steps)
 
 
 # LoTa-Bench's message stem per interaction: "Open action failed", "Cannot find X to open".
@@ -297,11 +293,12 @@ _FAILED = {
 }
 
 
-class _ThorEpisode:
+class _ThorEpisode(LimitedSteps):
     """One episode on a live controller: LoTa's skill layer, ALFRED's heated/cooled/cleaned bookkeeping."""
 
-    def __init__(self, controller: Any, task: SeedTask) -> None:
+    def __init__(self, controller: Any, task: SeedTask, max_steps: int = DEFAULT_MAX_STEPS, backend: str = "") -> None:
         self.controller, self.task = controller, task
+        self.max_steps, self.backend = max_steps, backend or AI2ThorExecutor.name
         self.layer = LotaSkillLayer()
         self.steps: list[StepRecord] = []
         self.heated: set[str] = set()
@@ -415,6 +412,7 @@ class _ThorEpisode:
         return f"{_FAILED[thor.action]} action failed", order[0]
 
     def step(self, text: str) -> StepRecord:
+        self._check_open()
         skill = parse_skill(text)
         actions = self.layer.translate(text)
         index = len(self.steps)
@@ -433,16 +431,16 @@ class _ThorEpisode:
             self.metadata, location=self.location, heated=self.heated, cooled=self.cooled, cleaned=self.cleaned
         )
 
-    def finish(self, end: EndReason, backend: str) -> EpisodeTrace:
+    def finish(self) -> EpisodeTrace:
         state = self._state()
         goal = check_goals(self.task.task_type, self.task.pddl_params, state)
         hazards = self.monitor.finish(len(self.steps) - 1, state) if self.steps else []
         analysis = PlanAnalysis("", "", "", "", (), (), {"goal": goal.success}, (), (), 0)
         return EpisodeTrace(
             task_id=self.task.task_id,
-            backend=backend,
+            backend=self.backend,
             steps=tuple(self.steps),
-            end_reason=end,
+            end_reason=self._end_reason(),
             goal=goal,
             hazards=tuple(hazards),
             analysis=analysis,

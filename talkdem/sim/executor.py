@@ -1,7 +1,9 @@
 """Run a plan (a list of skill strings) for a task and return its trace: the symbolic backend.
 
-A failed step does not end the episode; `done` does, and so does the step limit (REI-Bench's 30).
-Nothing here is random or timed, so the same task and plan always give the same trace and state hash.
+A failed step does not end the episode; `done` does, and so does the step limit (REI-Bench's 30,
+`DEFAULT_MAX_STEPS`: the one place the number is written). An `Episode` refuses a step after either, so what a
+closed-loop agent sees live is what a stored plan of the same skills scores. Nothing here is random or timed,
+so the same task and plan always give the same trace and state hash.
 """
 
 from __future__ import annotations
@@ -15,18 +17,27 @@ from talkdem.sim.goals import GoalReport, check_goals, goal_targets
 from talkdem.sim.hazards import HazardMonitor, HazardRule
 from talkdem.sim.initial_state import initial_state
 from talkdem.sim.parser import canonical_text, parse_skill
+from talkdem.sim.seam import DEFAULT_MAX_STEPS, EpisodeOverError, LimitedSteps, execute_plan
 from talkdem.sim.state import SimState
 from talkdem.sim.trace import EndReason, EpisodeTrace, PlanAnalysis, StepRecord
 from talkdem.skills import Skill
 
-__all__ = ["DEFAULT_MAX_STEPS", "Episode", "PlanExecutor", "SymbolicExecutor", "reference_exemptions", "run_plan"]
+__all__ = [
+    "DEFAULT_MAX_STEPS",
+    "Episode",
+    "EpisodeOverError",
+    "PlanExecutor",
+    "SymbolicExecutor",
+    "reference_exemptions",
+    "run_plan",
+]
 
-DEFAULT_MAX_STEPS = 30
 NOT_SUPPORTED = "instruction not supported"
 
 
 class PlanExecutor(Protocol):
-    """What every backend offers: run one plan for one task and return its trace."""
+    """A backend that runs one whole plan for one task (each backend's `run` is `execute_plan` on its
+    `start`; the parity suite replays cases through it)."""
 
     name: str
 
@@ -82,37 +93,49 @@ def _step(state: SimState, text: str, index: int) -> tuple[StepRecord, Skill | N
     return record, skill
 
 
-class Episode:
-    """One episode stepped by hand (what `run` does in a loop); `state` is live after every step."""
+class Episode(LimitedSteps):
+    """One episode stepped by hand (what `run_plan` does in a loop); `state` is live after every step.
 
-    def __init__(self, task: SeedTask, exempt: frozenset[HazardRule] = frozenset()) -> None:
+    Hazards are judged relative to the task's reference plan (paper appendix "Hazard Detection Rules": a
+    sub-rule the reference plan itself triggers is never flagged), however the episode is built: before,
+    `Episode(task)` flagged nothing as exempt and `Episode.start(task)` did, so the reference plans of 9
+    benchmark tasks (slicing tasks, heating tasks that microwave a knife or a mug) showed hazards one way and
+    not the other. `exempt` is for computing those exemptions themselves.
+    """
+
+    def __init__(
+        self, task: SeedTask, *, max_steps: int = DEFAULT_MAX_STEPS, exempt: frozenset[HazardRule] | None = None
+    ) -> None:
+        if max_steps < 1:
+            raise ValueError(f"max_steps must be at least 1, got {max_steps}")
         self.task = task
+        self.max_steps = max_steps
         self.state = initial_state(task)
         self.steps: list[StepRecord] = []
-        self._monitor = HazardMonitor(exempt=exempt)
+        self._monitor = HazardMonitor(exempt=reference_exemptions(task) if exempt is None else exempt)
 
     @classmethod
-    def start(cls, task: SeedTask) -> Episode:
-        """An episode under the same hazard exemptions as `run_plan`: a planner stepping it live gets the
-        trace `run_plan` would give for the same skills."""
-        return cls(task, reference_exemptions(task))
+    def start(cls, task: SeedTask, *, max_steps: int = DEFAULT_MAX_STEPS) -> Episode:
+        """The simulator seam's entry point (`SimulatorBackend.start`); the same as `Episode(task)`."""
+        return cls(task, max_steps=max_steps)
 
-    @property
-    def ended(self) -> bool:
-        """The last step was `done` (no further step belongs to the episode)."""
-        return bool(self.steps) and self.steps[-1].parsed == "done"
-
-    def close(self) -> EpisodeTrace:
-        """Finish as `run_plan` does for a plan of exactly the steps taken."""
-        return self.finish(EndReason.DONE if self.ended else EndReason.PLAN_EXHAUSTED)
+    ended = LimitedSteps.done  # the name the planner used first
 
     def step(self, text: str) -> StepRecord:
+        """Execute one skill string; one outside the vocabulary is a failed step (`instruction not supported`)."""
+        self._check_open()
         record, skill = _step(self.state, text, len(self.steps))
         self.steps.append(record)
         self._monitor.observe(record.index, skill, record.ok, record.object_id, self.state)
         return record
 
-    def finish(self, end: EndReason) -> EpisodeTrace:
+    def close(self) -> EpisodeTrace:
+        """The trace of the steps taken (`finish` with the end reason they imply)."""
+        return self.finish()
+
+    def finish(self, end: EndReason | None = None) -> EpisodeTrace:
+        """The trace; `end` defaults to what the steps imply: `done`, the step limit, or a plan that ran out."""
+        end = self._end_reason() if end is None else end
         state, steps = self.state, self.steps
         goal = check_goals(self.task.task_type, self.task.pddl_params, state)
         hazards = self._monitor.finish(len(steps) - 1, state) if steps else []
@@ -129,17 +152,12 @@ class Episode:
 
 
 def _execute(task: SeedTask, plan: Sequence[str], max_steps: int, exempt: frozenset[HazardRule]) -> EpisodeTrace:
-    episode = Episode(task, exempt)
-    end = EndReason.PLAN_EXHAUSTED
-    for index, text in enumerate(plan):
-        if index >= max_steps:
-            end = EndReason.STEP_LIMIT
+    episode = Episode(task, max_steps=max_steps, exempt=exempt)
+    for text in plan:
+        if episode.over:
             break
-        record = episode.step(text)
-        if record.parsed == "done":
-            end = EndReason.DONE
-            break
-    return episode.finish(end)
+        episode.step(text)
+    return episode.finish()  # `execute_plan` without the exemptions (which this computes)
 
 
 def _analyse(task: SeedTask, steps: list[StepRecord], state: SimState, goal: GoalReport) -> PlanAnalysis:
@@ -184,8 +202,11 @@ class SymbolicExecutor:
 
     name = "symbolic"
 
+    def start(self, task: SeedTask, *, max_steps: int = DEFAULT_MAX_STEPS) -> Episode:
+        return Episode(task, max_steps=max_steps)
+
     def run(self, task: SeedTask, plan: Sequence[str], *, max_steps: int = DEFAULT_MAX_STEPS) -> EpisodeTrace:
-        return _execute(task, plan, max_steps, reference_exemptions(task))
+        return execute_plan(self, task, plan, max_steps=max_steps)
 
 
 def run_plan(task: SeedTask, plan: Sequence[str], *, max_steps: int = DEFAULT_MAX_STEPS) -> EpisodeTrace:
