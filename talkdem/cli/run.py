@@ -33,9 +33,17 @@ def register(subparsers: Any) -> None:
     parser.add_argument("--scoring", choices=["sum", "mean"], default="sum", help="skill score: sum or mean log-prob")
     parser.add_argument(
         "--planner",
-        choices=["scoring", "generative"],
+        choices=["scoring", "generative", "react"],
         default="scoring",
-        help="generative: for chat endpoints without prompt log-likelihoods",
+        help="generative: for chat endpoints without prompt log-likelihoods; react: closed loop (a thought, an "
+        "action, the simulator's answer) on any backend",
+    )
+    parser.add_argument(
+        "--thought-tokens",
+        type=positive_int,
+        default=24,
+        metavar="N",
+        help="react planner: the token budget of one thought (it also ends at the first sentence end)",
     )
     parser.add_argument("--no-mask-failed", action="store_true", help="offer a skill again right after it failed")
     parser.add_argument(
@@ -99,6 +107,7 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from talkdem.llm.registry import load_model
+    from talkdem.planner.react import ReActConfig
     from talkdem.planner.saycan import SayCanConfig
     from talkdem.planner.strategies import load_strategy
     from talkdem.runs.runner import run_episodes
@@ -134,15 +143,19 @@ def run(args: argparse.Namespace) -> int:
         if args.tokenizer:
             options.update(tokenizer=args.tokenizer, scoring_api=args.scoring_api, prompt_format=args.prompt_format)
             options["add_bos"] = {"model": None, "always": True, "never": False}[args.bos]
-        elif args.planner == "scoring" and _local_tokenizer(args.model):
+        elif args.planner in ("scoring", "react") and _local_tokenizer(args.model):
             # `--model` names a local model (catalog name, GGUF, tokenizer folder): its tokenizer is the served one's
             options.update(tokenizer=args.model, scoring_api=args.scoring_api, prompt_format=args.prompt_format)
             options["add_bos"] = {"model": None, "always": True, "never": False}[args.bos]
-        elif args.planner == "scoring":
+        elif args.planner == "scoring":  # react without a tokenizer writes and parses its actions
             raise ValueError(
                 "scoring through a server needs the served model's tokenizer: give --tokenizer "
                 "(a model name, GGUF file or local tokenizer folder), or use --planner generative"
             )
+    if args.planner == "react" and args.backend in ("hf", "llamacpp"):
+        # The thought continues the transcript as plain text: wrapped in a chat template it would share no
+        # prefix with the scoring context, and every step would run the whole prompt twice.
+        options["chat_template"] = False
     if args.threads:
         options["threads"] = args.threads
         # llama.cpp's kernels split work by thread count, which can move scores in the last digits: the
@@ -164,18 +177,25 @@ def run(args: argparse.Namespace) -> int:
         clients = [CachedLM(client, args.cache) for client in clients]
     model = clients[0]
     strategy = load_strategy(args.strategy)
-    config = SayCanConfig(
-        max_steps=args.max_steps,
-        scoring=args.scoring,
-        mask_failed=not args.no_mask_failed,
-        mode=args.planner,
-        log_top=args.log_top,
-    )
+    config: SayCanConfig | ReActConfig
+    if args.planner == "react":
+        if args.log_top or args.no_mask_failed or args.scoring != "sum":
+            raise ValueError("--log-top, --no-mask-failed and --scoring are for the SayCan planners, not react")
+        config = ReActConfig(max_steps=args.max_steps, thought_tokens=args.thought_tokens)
+    else:
+        config = SayCanConfig(
+            max_steps=args.max_steps,
+            scoring=args.scoring,
+            mask_failed=not args.no_mask_failed,
+            mode=args.planner,
+            log_top=args.log_top,
+        )
     if args.log_top:
         import logging
 
         logging.basicConfig(level=logging.INFO, format="%(message)s")
-    out = args.out or Path("runs") / f"{Path(model.identity.name).name.removesuffix('.gguf')}-{args.strategy}"
+    planner = "-react" if args.planner == "react" else ""
+    out = args.out or Path("runs") / f"{Path(model.identity.name).name.removesuffix('.gguf')}{planner}-{args.strategy}"
     summary = run_episodes(
         episodes,
         model,

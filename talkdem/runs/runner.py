@@ -11,6 +11,7 @@ Buffering and writing in order instead would lose up to N-1 finished episodes on
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import queue
 import sys
 from collections.abc import Sequence
@@ -21,6 +22,7 @@ from pathlib import Path
 from talkdem.instructions import Instruction
 from talkdem.llm.base import LanguageModel
 from talkdem.planner.prompt import prompt_version
+from talkdem.planner.react import ReActConfig, ReActPlanner, react_prompt_version
 from talkdem.planner.saycan import PlanResult, SayCanConfig, SayCanPlanner
 from talkdem.planner.strategies import PlannerInput, Strategy
 from talkdem.runs.records import OUTCOME_KEYS, EpisodeRecord, RunHeader
@@ -44,8 +46,10 @@ class RunSummary:
     successes: int
 
 
-def episode_record(instruction: Instruction, result: PlanResult, shown: str, notes: dict[str, str]) -> EpisodeRecord:
-    return EpisodeRecord.from_trace(
+def episode_record(
+    instruction: Instruction, result: PlanResult, shown: str, notes: dict[str, str], *, thoughts: bool = False
+) -> EpisodeRecord:
+    record = EpisodeRecord.from_trace(
         instruction,
         result.plan,
         result.trace,
@@ -53,6 +57,18 @@ def episode_record(instruction: Instruction, result: PlanResult, shown: str, not
         notes=notes,
         timing={"planning_seconds": round(result.planning_seconds, 3)},
     )
+    if thoughts:  # ReAct: the thought before each step, beside the steps it led to
+        record = dataclasses.replace(record, trace={**record.trace, "thoughts": list(result.generated)})
+    return record
+
+
+Planner = SayCanPlanner | ReActPlanner
+
+
+def _planner(model: LanguageModel, config: SayCanConfig | ReActConfig) -> Planner:
+    if isinstance(config, ReActConfig):
+        return ReActPlanner(model, config)
+    return SayCanPlanner(model, config)
 
 
 def run_episodes(
@@ -60,7 +76,7 @@ def run_episodes(
     model: LanguageModel,
     strategy: Strategy,
     run_dir: Path,
-    config: SayCanConfig | None = None,
+    config: SayCanConfig | ReActConfig | None = None,
     extra_config: dict[str, object] | None = None,
     progress: bool = True,
     clients: Sequence[LanguageModel] = (),
@@ -75,16 +91,23 @@ def run_episodes(
     served: dict[str, object] = {k: v for k, v in model.run_info().items() if k != "base_url"}
     if served:
         served["servers"] = sorted({c.run_info().get("base_url", "") for c in clients})
-    header = RunHeader.new(
-        model={"backend": model.identity.backend, "name": model.identity.name, "revision": model.identity.revision},
-        planner=config.planner_name,
-        strategy=strategy.name,
-        prompt_version=prompt_version(),
-        config={
+    if isinstance(config, ReActConfig):
+        planner_config, version = config.header_config(), react_prompt_version()
+    else:
+        planner_config = {
             "max_steps": config.max_steps,
             "scoring": config.scoring,
             "mask_failed": config.mask_failed,
             "mode": config.mode,
+        }
+        version = prompt_version()
+    header = RunHeader.new(
+        model={"backend": model.identity.backend, "name": model.identity.name, "revision": model.identity.revision},
+        planner=config.planner_name,
+        strategy=strategy.name,
+        prompt_version=version,
+        config={
+            **planner_config,
             **(extra_config or {}),
             **({"served": served} if served else {}),
             "planned_episodes": len(instructions),
@@ -119,16 +142,16 @@ def _run_locked(
     strategy: Strategy,
     run_dir: Path,
     header: RunHeader,
-    config: SayCanConfig,
+    config: SayCanConfig | ReActConfig,
     progress: bool,
 ) -> RunSummary:
     from tqdm import tqdm
 
     done = {episode.episode_id for episode in open_run(run_dir, header, RESUME_KEYS)}
     pending = [i for i in instructions if i.id not in done]
-    planners: queue.SimpleQueue[SayCanPlanner] = queue.SimpleQueue()
+    planners: queue.SimpleQueue[Planner] = queue.SimpleQueue()
     for client in clients:
-        planners.put(SayCanPlanner(client, config))
+        planners.put(_planner(client, config))
     successes = 0
     bar = tqdm(
         total=len(instructions),
@@ -162,7 +185,13 @@ def _run_locked(
                         instruction, planner_input = running.pop(future)
                         result = future.result()
                         writer.write(
-                            episode_record(instruction, result, planner_input.instruction, planner_input.notes)
+                            episode_record(
+                                instruction,
+                                result,
+                                planner_input.instruction,
+                                planner_input.notes,
+                                thoughts=isinstance(config, ReActConfig),
+                            )
                         )
                         successes += result.trace.success
                         bar.update(1)

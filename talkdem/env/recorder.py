@@ -1,0 +1,91 @@
+"""Write any agent's episodes as a standard run directory (what report, leaderboard and evaluate read).
+
+The header names the agent (name, version, and, if the author gives them, its model and strategy); each
+episode becomes one `EpisodeRecord.from_trace`, the constructor every writer uses. Plans come from the
+agent, so the planner is `external`, as for `talkdem score`. A killed recording resumes: episodes already on
+disk are kept, and `recorded` says which ids to skip.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from contextlib import ExitStack
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from talkdem.instructions import Instruction
+from talkdem.runs.records import EpisodeRecord, RunHeader
+from talkdem.runs.store import EpisodeWriter, open_run, run_lock
+from talkdem.sim.trace import EpisodeTrace
+
+__all__ = ["AGENT_RESUME_KEYS", "EpisodeRecorder"]
+
+# A recording resumes only for the same agent and version on the same data and step limit.
+AGENT_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash", "config.max_steps", "config.agent")
+
+
+class EpisodeRecorder:
+    """`with EpisodeRecorder(run_dir, "my-agent", "1.0") as rec: rec.record(instruction, plan, trace)`."""
+
+    def __init__(
+        self,
+        run_dir: Path,
+        agent: str,
+        version: str,
+        *,
+        model: str = "",
+        strategy: str = "external",
+        max_steps: int | None = None,
+        planned: Sequence[Instruction] = (),
+        config: dict[str, Any] | None = None,
+    ) -> None:
+        from talkdem.sim.seam import DEFAULT_MAX_STEPS
+
+        if not agent.strip():
+            raise ValueError("an agent recording needs the agent's name")
+        self.run_dir = run_dir
+        self.header = RunHeader.new(
+            model={"backend": "agent", "name": agent, "revision": version},
+            planner="external",
+            strategy=strategy,
+            prompt_version="",
+            config={
+                "agent": {"name": agent, "version": version, "model": model},
+                "max_steps": DEFAULT_MAX_STEPS if max_steps is None else max_steps,
+                **(config or {}),
+                **({"planned_episodes": len(planned)} if planned else {}),
+            },
+        )
+        self._hold = ExitStack()  # one writer at a time, as for every run directory
+        try:
+            self._hold.enter_context(run_lock(run_dir))
+            self.recorded = {e.episode_id for e in open_run(run_dir, self.header, AGENT_RESUME_KEYS)}
+            self._writer = self._hold.enter_context(EpisodeWriter(run_dir))
+        except BaseException:
+            self._hold.close()
+            raise
+
+    def record(
+        self, instruction: Instruction, plan: Sequence[str], trace: EpisodeTrace, notes: dict[str, str] | None = None
+    ) -> EpisodeRecord:
+        """Append one finished episode (an id already recorded is refused: one record per episode)."""
+        if instruction.id in self.recorded:
+            raise ValueError(f"{self.run_dir}: episode '{instruction.id}' is already recorded")
+        if trace.task_id != instruction.task_id:
+            raise ValueError(f"episode '{instruction.id}': the trace is of task '{trace.task_id}'")
+        record = EpisodeRecord.from_trace(instruction, tuple(plan), trace, notes=notes)
+        self._writer.write(record)
+        self.recorded.add(instruction.id)
+        return record
+
+    def close(self) -> None:
+        self._hold.close()
+
+    def __enter__(self) -> EpisodeRecorder:
+        return self
+
+    def __exit__(
+        self, kind: type[BaseException] | None, value: BaseException | None, traceback: TracebackType | None
+    ) -> None:
+        self.close()
