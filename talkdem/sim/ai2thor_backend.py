@@ -23,8 +23,8 @@ from talkdem.sim.affordances import skill_type_of
 from talkdem.sim.goals import check_goals
 from talkdem.sim.hazards import HazardMonitor
 from talkdem.sim.parser import canonical_text, parse_skill
-from talkdem.sim.state import ObjectSpec, SimState
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, LimitedSteps, execute_plan
+from talkdem.sim.state import ObjectSpec, SimState
 from talkdem.sim.trace import EpisodeTrace, PlanAnalysis, StepRecord
 from talkdem.skills import Skill, SkillVerb
 

@@ -1,0 +1,1 @@
+"""TALK-Dem inside other evaluation frameworks (optional extras, imported only when used)."""
