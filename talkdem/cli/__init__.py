@@ -31,6 +31,7 @@ from talkdem.cli import (
     split,
     tasks,
     verify,
+    verify_run,
 )
 
 __all__ = ["build_parser", "main"]
@@ -51,6 +52,7 @@ _COMMANDS = (
     merge,
     score,
     import_inspect,
+    verify_run,
     report,
     leaderboard,
     models,

@@ -1,4 +1,9 @@
-"""Scored episodes: plans checked, executed in the simulator, and reduced to what the measurements need.
+"""Scored episodes: what the measurements need of each episode record.
+
+Plans given directly (a mapping, the `evaluate` metric) are executed through the one path from a plan to an
+episode record (`talkdem.runs.episode.play_plan`); a run directory is read as stored: its records already
+hold the simulator's outcome and trace, so building a report executes nothing (`talkdem verify-run`
+re-executes a run explicitly and lists the records that disagree).
 
 Input checking lives here so that every entry point (a mapping of plans, paired predictions/references,
 a run directory) fails the same way: a `ScoringInputError` naming the offending ids, never a number
@@ -11,11 +16,16 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from talkdem.plans import as_plan
 from talkdem.schema import CLEAN, LEVELS, PATTERN_CONFIGS, Condition, parse_instruction_id
-from talkdem.sim import DEFAULT_MAX_STEPS, EpisodeTrace, run_plan
+from talkdem.sim import DEFAULT_MAX_STEPS
+from talkdem.sim.trace import StoredTrace, TraceFacts, TraceFormatError
 from talkdem.skills import SkillVerb
+
+if TYPE_CHECKING:
+    from talkdem.runs.records import EpisodeRecord
 
 __all__ = [
     "EpisodeResult",
@@ -57,11 +67,27 @@ class EpisodeResult:
     """Steps the simulator executed, failed ones included, not counting the closing `done`."""
     run: str = ""
     """Which run the episode came from (pooled analyses cluster and pair within a run)."""
-    trace: EpisodeTrace | None = field(default=None, repr=False, compare=False)
-    """The full trace (the error classifier reads it); None when rebuilt from summaries."""
+    trace: TraceFacts | None = field(default=None, repr=False, compare=False)
+    """The full trace (the error classifier reads it): live, or as stored in a run; None from summaries."""
+
+    @classmethod
+    def from_record(cls, record: EpisodeRecord, run: str = "", trace: TraceFacts | None = None) -> EpisodeResult:
+        """The measurements' view of one episode record (its stored trace unless a live one is given)."""
+        facts = trace if trace is not None else StoredTrace.from_json(record.trace, f"episode {record.episode_id}")
+        return cls(
+            instruction_id=record.episode_id,
+            task_id=record.task_id,
+            condition=record.condition,
+            plan=record.plan,
+            success=record.success,
+            hazards=tuple(str(h["category"]) for h in record.hazards),
+            plan_length=plan_length(facts),
+            run=run,
+            trace=facts,
+        )
 
 
-def plan_length(trace: EpisodeTrace) -> int:
+def plan_length(trace: TraceFacts) -> int:
     """Executed steps without the terminating `done` (the paper's "plan length counts executed steps")."""
     return sum(1 for step in trace.steps if step.parsed != SkillVerb.DONE.value)
 
@@ -126,30 +152,21 @@ def execute_plans(
     max_steps: int = DEFAULT_MAX_STEPS,
     run: str = "",
 ) -> list[EpisodeResult]:
-    """Check `plans` (instruction id -> list of skills) and execute each in the simulator for its task."""
-    from talkdem.tasks import get_task
+    """Check `plans` (instruction id -> list of skills) and execute each for its task (`play_plan`)."""
+    from dataclasses import replace
 
+    from talkdem.instructions import load_instructions
+    from talkdem.runs.episode import play_plan
+    from talkdem.sim.seam import load_simulator
+
+    by_key = {(i.task_id, i.condition): i for i in load_instructions()}
+    backend = load_simulator()
     results = []
     for instruction_id, task_id, condition, plan in _resolve(plans, index):
-        trace = run_plan(get_task(task_id), plan, max_steps=max_steps)
-        results.append(_result(instruction_id, task_id, condition, plan, trace, run))
+        record, trace = play_plan(by_key[(task_id, condition)], plan, max_steps=max_steps, simulator=backend)
+        # The id as the caller wrote it (`<task>:clean` stays short): results are looked up by it.
+        results.append(replace(EpisodeResult.from_record(record, run, trace), instruction_id=instruction_id))
     return results
-
-
-def _result(
-    instruction_id: str, task_id: str, condition: Condition, plan: tuple[str, ...], trace: EpisodeTrace, run: str
-) -> EpisodeResult:
-    return EpisodeResult(
-        instruction_id=instruction_id,
-        task_id=task_id,
-        condition=condition,
-        plan=plan,
-        success=trace.success,
-        hazards=tuple(h.category.value for h in trace.hazards),
-        plan_length=plan_length(trace),
-        run=run,
-        trace=trace,
-    )
 
 
 def pair_predictions(predictions: Sequence[object], references: Sequence[object]) -> dict[str, object]:
@@ -172,41 +189,33 @@ def pair_predictions(predictions: Sequence[object], references: Sequence[object]
     return {str(r): p for r, p in zip(references, predictions, strict=True)}
 
 
-def results_from_run(run_dir: Path, *, run: str = "", max_steps: int | None = None) -> list[EpisodeResult]:
-    """Re-execute the plans of a run directory (the simulator is the source of truth, not stored flags).
+def results_from_run(run_dir: Path, *, run: str = "") -> list[EpisodeResult]:
+    """The episodes of a run directory as stored: outcome, hazards and trace are read, nothing is executed
+    (`talkdem verify-run` checks them against the simulator)."""
+    from talkdem.runs import read_episodes
 
-    A run whose stored success differs from the re-execution was scored by another simulator version:
-    the ids are reported in a warning, and the re-executed outcome is used."""
-    import warnings
-
-    from talkdem.runs import read_episodes, read_header
-    from talkdem.tasks import get_task
-
-    header = read_header(run_dir)
     records = read_episodes(run_dir)
     if not records:
         raise ScoringInputError(f"{run_dir}: the run has no episodes", [])
-    steps = max_steps if max_steps is not None else int(header.config.get("max_steps", DEFAULT_MAX_STEPS))
     counts: dict[str, int] = {}
     for record in records:
         counts[record.episode_id] = counts.get(record.episode_id, 0) + 1
     duplicated = [i for i, n in counts.items() if n > 1]
     if duplicated:
         raise ScoringInputError(f"{run_dir}: duplicate episode ids", duplicated)
-    results, changed = [], []
+    results = []
     for record in records:
-        condition = Condition(record.pattern, record.level if record.pattern != CLEAN else 0)
+        condition = record.condition
         known = condition.pattern in PATTERN_CONFIGS and condition.level in LEVELS
         if condition.pattern != CLEAN and not known:
             raise ScoringInputError(f"{run_dir}: episodes with an unknown condition", [record.episode_id])
-        trace = run_plan(get_task(record.task_id), record.plan, max_steps=steps)
-        if trace.success != record.success:
-            changed.append(record.episode_id)
-        results.append(_result(record.episode_id, record.task_id, condition, record.plan, trace, run))
-    if changed:
-        warnings.warn(
-            f"{run_dir}: {len(changed)} stored outcomes differ from re-execution (first: {changed[0]}); "
-            "using the simulator's",
-            stacklevel=2,
-        )
+        try:
+            result = EpisodeResult.from_record(record, run)
+        except TraceFormatError as exc:
+            raise ScoringInputError(f"{run_dir}: {exc}", [record.episode_id]) from None
+        if result.success != (result.trace is not None and result.trace.success):
+            raise ScoringInputError(
+                f"{run_dir}: the stored success flag contradicts the stored trace's goal report", [record.episode_id]
+            )
+        results.append(result)
     return results

@@ -29,7 +29,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import StrEnum
 
-from talkdem.sim import EpisodeTrace, parse_skill, run_plan
+from talkdem.sim import parse_skill, run_plan
+from talkdem.sim.trace import TraceFacts
 from talkdem.skills import Skill, SkillVerb
 from talkdem.tasks import Task
 
@@ -113,7 +114,7 @@ def _names(skill: Skill, object_type: str) -> bool:
     return bool(object_type) and object_type in skill.object_type
 
 
-def classify_error(task: Task, trace: EpisodeTrace) -> ErrorClassification | None:
+def classify_error(task: Task, trace: TraceFacts) -> ErrorClassification | None:
     """The primary failure type of a failed episode (None when the episode succeeded)."""
     if trace.success:
         return None

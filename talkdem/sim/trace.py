@@ -5,14 +5,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from enum import StrEnum
 from functools import cached_property
-from typing import Any
+from typing import Any, Protocol
 
 from talkdem.sim.actions import FailureKind
-from talkdem.sim.goals import GoalReport
-from talkdem.sim.hazards import Hazard
+from talkdem.sim.goals import GoalCondition, GoalReport
+from talkdem.sim.hazards import Hazard, HazardCategory, HazardRule
 from talkdem.sim.state import SimState
 
-__all__ = ["EndReason", "EpisodeTrace", "PlanAnalysis", "StepRecord"]
+__all__ = ["EndReason", "EpisodeTrace", "PlanAnalysis", "StepRecord", "StoredTrace", "TraceFacts", "TraceFormatError"]
 
 
 class EndReason(StrEnum):
@@ -113,3 +113,103 @@ class EpisodeTrace:
         }
         record.update(success=self.success, final_state=self.final_state, state_hash=self.state_hash)
         return record
+
+
+class TraceFacts(Protocol):
+    """What readers of an episode need (the error classifier, the metric): a live trace or a stored one."""
+
+    @property
+    def task_id(self) -> str: ...
+
+    @property
+    def steps(self) -> tuple[StepRecord, ...]: ...
+
+    @property
+    def end_reason(self) -> EndReason: ...
+
+    @property
+    def goal(self) -> GoalReport: ...
+
+    @property
+    def hazards(self) -> tuple[Hazard, ...]: ...
+
+    @property
+    def analysis(self) -> PlanAnalysis: ...
+
+    @property
+    def success(self) -> bool: ...
+
+
+class TraceFormatError(ValueError):
+    """A stored trace without the shape `EpisodeTrace.to_json()` writes."""
+
+
+@dataclass(frozen=True)
+class StoredTrace:
+    """An `EpisodeTrace` read back from a run directory: the facts, without the live state (reports read
+    these instead of executing the plan again; `talkdem verify-run` is the explicit re-execution)."""
+
+    task_id: str
+    backend: str
+    steps: tuple[StepRecord, ...]
+    end_reason: EndReason
+    goal: GoalReport
+    hazards: tuple[Hazard, ...]
+    analysis: PlanAnalysis
+    state_hash: str
+
+    @property
+    def success(self) -> bool:
+        return self.goal.success
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any], where: str = "trace") -> StoredTrace:
+        try:
+            steps = tuple(
+                StepRecord(
+                    index=int(s["index"]),
+                    skill=str(s["skill"]),
+                    parsed=s["parsed"],
+                    ok=bool(s["ok"]),
+                    message=str(s["message"]),
+                    failure=FailureKind(s["failure"]) if s["failure"] is not None else None,
+                    object_id=s["object_id"],
+                    receptacle_id=s["receptacle_id"],
+                    location=s["location"],
+                )
+                for s in data["steps"]
+            )
+            goal = data["goal"]
+            a = data["analysis"]
+            analysis = PlanAnalysis(
+                target_object=a["target_object"],
+                target_parent=a["target_parent"],
+                target_mrecep=a["target_mrecep"],
+                target_toggle=a["target_toggle"],
+                picked_up=tuple(a["picked_up"]),
+                placed=tuple((str(o), str(r)) for o, r in a["placed"]),
+                state_reached=dict(a["state_reached"]),
+                missing_subgoals=tuple(a["missing_subgoals"]),
+                failed_steps=tuple((int(i), FailureKind(k)) for i, k in a["failed_steps"]),
+                repeated_steps=int(a["repeated_steps"]),
+            )
+            return cls(
+                task_id=str(data["task_id"]),
+                backend=str(data["backend"]),
+                steps=steps,
+                end_reason=EndReason(data["end_reason"]),
+                goal=GoalReport(
+                    str(goal["task_type"]),
+                    tuple(GoalCondition(str(c["name"]), bool(c["met"])) for c in goal["conditions"]),
+                ),
+                hazards=tuple(
+                    Hazard(HazardCategory(h["category"]), HazardRule(h["rule"]), int(h["step"]), str(h["detail"]))
+                    for h in data["hazards"]
+                ),
+                analysis=analysis,
+                state_hash=str(data.get("state_hash", "")),
+            )
+        except (KeyError, TypeError, ValueError) as exc:
+            raise TraceFormatError(
+                f"{where}: the stored trace is not a simulator trace ({type(exc).__name__}: {exc})"
+            ) from None

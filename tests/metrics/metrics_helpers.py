@@ -72,7 +72,7 @@ def write_run(
                     success=trace.success,
                     hazards=tuple(summary["hazards"]),
                     goal_conditions=summary["goal_conditions"],
-                    trace={},
+                    trace=trace.to_json(),  # reports read the stored trace
                 )
             )
     return run_dir
