@@ -116,3 +116,63 @@ def test_talk_dem_load_takes_a_split_and_the_clean_level_zero(tmp_path: Path) ->
         talk_dem.load("intrusion", 2, split="level_3")
     with pytest.raises(ValueError, match="neither a dataset folder nor a Hub repository id"):
         talk_dem.load("clean", path="no-such-folder")
+
+
+def _copy_with_edit(folder: Path, text: str | None) -> Path:
+    """A copy of the dataset named `data` (as every checkout's is) under `folder`, with the first row of
+    `intrusion/level_2` reading `text` (None: unedited)."""
+    import shutil
+
+    copy = folder / "data"
+    shutil.copytree(DATA, copy, ignore=shutil.ignore_patterns("parity", "tasks"))
+    if text is not None:
+        _edit_first_row(copy, text)
+    return copy
+
+
+def _edit_first_row(copy: Path, text: str) -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = copy / "intrusion" / "level_2.parquet"
+    table = pq.read_table(path)
+    rows = table.to_pylist()
+    rows[0]["instruction"] = text
+    pq.write_table(pa.Table.from_pylist(rows, schema=table.schema), path)
+
+
+def test_the_loader_reads_what_is_on_disk(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    # One Hugging Face cache for everything, as on a user's machine: a second folder named `data`, or an
+    # edit in place, must not be answered with the rows cached for the first.
+    monkeypatch.setattr(datasets.config, "HF_DATASETS_CACHE", tmp_path / "hf")
+    first = _copy_with_edit(tmp_path / "a", None)
+    second = _copy_with_edit(tmp_path / "b", "an edited second copy")
+    monkeypatch.setenv("TALKDEM_DATA_DIR", str(first))
+    original = talk_dem.load("intrusion", 2)[0]["instruction"]
+    assert original != "an edited second copy"
+    monkeypatch.setenv("TALKDEM_DATA_DIR", str(second))
+    assert talk_dem.load("intrusion", 2)[0]["instruction"] == "an edited second copy"
+    assert talk_dem.load("intrusion", 2, path=str(first))[0]["instruction"] == original
+    _edit_first_row(first, "edited in place")
+    monkeypatch.setenv("TALKDEM_DATA_DIR", str(first))
+    assert talk_dem.load("intrusion", 2)[0]["instruction"] == "edited in place"
+
+
+def test_the_readme_load_dataset_example_reads_the_folder_it_names(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    import re
+
+    readme = (repo_root() / "README.md").read_text(encoding="utf-8")
+    found = re.search(r'^ds = datasets\.load_dataset\("data", .*$', readme, flags=re.MULTILINE)
+    assert found, "the README shows loading the checkout's data/ with datasets.load_dataset"
+    example = found.group(0).replace('"referential_imprecision", split="level_3"', '"intrusion", split="level_2"')
+    assert example != found.group(0)
+    monkeypatch.setattr(datasets.config, "HF_DATASETS_CACHE", tmp_path / "hf")
+    for name, text in (("a", "the first checkout"), ("b", "the second checkout")):
+        _copy_with_edit(tmp_path / name, text)
+        monkeypatch.chdir(tmp_path / name)
+        scope: dict[str, object] = {"datasets": datasets}
+        exec(example, scope)
+        loaded = scope["ds"]
+        assert isinstance(loaded, datasets.Dataset) and loaded[0]["instruction"] == text
