@@ -208,7 +208,9 @@ def _interrupted_full_build(monkeypatch: pytest.MonkeyPatch, checkpoint: Path, o
     return saved
 
 
-def test_a_different_build_never_deletes_or_reuses_a_checkpoint(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+def test_a_different_build_never_deletes_or_reuses_a_checkpoint(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
     checkpoint = tmp_path / "checkpoint.jsonl"
     saved = _interrupted_full_build(monkeypatch, checkpoint, tmp_path / "full", units=3)
     settings = json.loads(saved.splitlines()[0])
