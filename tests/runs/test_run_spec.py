@@ -227,3 +227,64 @@ def test_resuming_a_run_without_input_hashes_says_they_are_unknown(tmp_path: Pat
     assert "records no input file hashes" in error and "unknown" in error
     header = read_header(run_dir)
     assert header.inputs == {} and header.status == "complete"  # unknown stays unknown: nothing is made up
+
+
+def test_split_and_merge_keep_status_inputs_and_revisions(tmp_path: Path) -> None:
+    from talkdem.runs.shards import merge_runs, split_run
+
+    run_dir = _half_run(tmp_path, None)
+    inputs = read_header(run_dir).inputs
+    shards = split_run(run_dir, 2, tmp_path / "shards")
+    for shard in shards:
+        header = read_header(shard.run_dir)
+        assert header.status == ("complete" if shard.seeded == shard.planned else "incomplete")
+        assert header.inputs == inputs
+    first, second = (s.run_dir for s in shards)
+    path = second / "header.json"
+    stored = json.loads(path.read_text())
+    current = stored["code_revision"]
+    stored["code_revision"] = "0" * 40  # the second shard was started on another machine's checkout
+    path.write_text(json.dumps(stored))
+    for index, folder in ((1, first), (2, second)):
+        process = _scripted(folder, None, "--shard", f"{index}/2", "--continue-on-new-revision")
+        assert _finish(process)[0] == 0
+        assert read_header(folder).status == "complete"
+    merged = merge_runs(tmp_path / "merged", [first, second])
+    header = read_header(merged.out)
+    assert header.status == "complete" and header.inputs == inputs
+    assert sorted(header.code_revisions) == sorted([current, "0" * 40])
+    # Shards whose input files differ are not one run.
+    stored = json.loads(path.read_text())
+    stored["inputs"]["data/tasks/benchmark.jsonl"] = "f" * 64
+    path.write_text(json.dumps(stored))
+    with pytest.raises(ValueError, match=r"data/tasks/benchmark\.jsonl changed between the shards"):
+        merge_runs(tmp_path / "merged-again", [first, second])
+
+
+def test_a_scored_run_records_the_files_it_read_and_its_status(tmp_path: Path) -> None:
+    from talkdem.runs.external import score_plans
+    from talkdem.runs.sampling import select_episodes
+    from talkdem.schema import parse_conditions
+    from talkdem.tasks import get_task
+
+    plans = {e.id: get_task(e.task_id).reference_plan for e in select_episodes(parse_conditions("clean"), 2)}
+    score_plans(plans, tmp_path / "run", "p")
+    header = read_header(tmp_path / "run")
+    assert header.status == "complete" and header.inputs == input_hashes(planner=False)
+
+
+def test_a_strategys_arguments_are_its_plain_settings(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    import numpy as np
+
+    from care.strategy import ContextAwareRetrieval
+    from talkdem.instructions import load_memory_bank
+    from talkdem.runs.spec import strategy_arguments
+
+    monkeypatch.setenv("TALKDEM_CACHE_DIR", str(tmp_path))
+
+    def encode(texts: object) -> np.ndarray:  # type: ignore[type-arg]
+        return np.ones((len(texts), 4)) / 2  # type: ignore[arg-type]
+
+    care = ContextAwareRetrieval(memory=load_memory_bank()[:10], k=2, encode=encode)
+    assert strategy_arguments(care) == {"k": 2}  # not the memory bank, the encoder or the embeddings
+    assert strategy_arguments(load_strategy("vanilla")) == {}
