@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as dt
+import functools
 import json
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -188,15 +190,23 @@ def _is_scalar(value: object) -> bool:
     return isinstance(value, str | int | float | bool)
 
 
+@functools.cache
 def _planner_checks() -> dict[str, tuple[str, Any]]:
-    """`config.NAME` -> (what it must be, a test), for every `SayCanConfig` field, from its type: a field
-    added to the planner later is validated without an edit here."""
+    """`config.NAME` -> (what it must be, a test), for every `SayCanConfig` field, from its type (or, when
+    the annotation cannot be resolved, its default's type): a field added to the planner later is
+    validated without an edit here."""
     import typing
 
     from talkdem.planner.saycan import SayCanConfig
 
+    try:
+        hints = typing.get_type_hints(SayCanConfig)
+    except (NameError, TypeError):  # an annotation naming a type imported only for type checking
+        hints = {}
     checks: dict[str, tuple[str, Any]] = {}
-    for name, kind in typing.get_type_hints(SayCanConfig).items():
+    for spec in dataclasses.fields(SayCanConfig):
+        name = spec.name
+        kind = hints.get(name, type(spec.default) if spec.default is not dataclasses.MISSING else None)
         if typing.get_origin(kind) is typing.Literal:
             allowed = typing.get_args(kind)
             checks[name] = (f"one of {', '.join(map(repr, allowed))}", lambda v, a=allowed: v in a)
@@ -209,7 +219,7 @@ def _planner_checks() -> dict[str, tuple[str, Any]]:
             else:
                 checks[name] = ("a non-negative integer", lambda v: _is_int(v) and v >= 0)
         elif kind is float:
-            checks[name] = ("a number", lambda v: (_is_int(v) or isinstance(v, float)) and v == v)
+            checks[name] = ("a finite number", lambda v: (_is_int(v) or isinstance(v, float)) and math.isfinite(v))
         elif kind is str:
             checks[name] = ("a string", lambda v: isinstance(v, str))
     return checks

@@ -38,7 +38,6 @@ __all__ = [
     "header_value",
     "input_files",
     "input_hashes",
-    "planner_defaults",
     "planner_settings",
     "strategy_arguments",
 ]
@@ -62,13 +61,9 @@ def planner_settings(config: SayCanConfig) -> dict[str, Scalar]:
     return {f.name: getattr(config, f.name) for f in dataclasses.fields(config)}
 
 
-def planner_defaults() -> dict[str, Scalar]:
-    """Each planner field's default: what a header written before the field existed ran with."""
-    return planner_settings(SayCanConfig())
-
-
 def _outcome_keys() -> tuple[str, ...]:
-    planner = tuple(f"config.{name}" for name in planner_defaults() if name not in NOT_OUTCOME)
+    names = [f.name for f in dataclasses.fields(SayCanConfig)]
+    planner = tuple(f"config.{name}" for name in names if name not in NOT_OUTCOME)
     return (
         "model",
         "planner",
@@ -93,8 +88,14 @@ MERGE_KEYS = (*OUTCOME_KEYS, "config.conditions", "config.limit")
 
 
 def strategy_arguments(strategy: Strategy) -> dict[str, Scalar]:
-    """A strategy's settings: its public attributes that are plain values (CARE's `k`). Data it holds
-    (the memory bank, demonstrations, an encoder) is not an argument; the files it came from are inputs."""
+    """A strategy's settings: what its `options()` says, where it has that method, else its public
+    attributes that are plain values (CARE's `k`). Data it holds (the memory bank, demonstrations, an
+    encoder) is not an argument; the files it came from are inputs."""
+    options = getattr(strategy, "options", None)
+    if callable(options):
+        declared = options()
+        if isinstance(declared, Mapping):
+            return {str(k): v for k, v in sorted(declared.items()) if isinstance(v, str | int | float | bool)}
     return {
         name: value
         for name, value in sorted(vars(strategy).items())
@@ -120,14 +121,16 @@ def input_files(*, planner: bool = True) -> dict[str, Path]:
     def add(path: Path) -> None:
         files[f"data/{path.relative_to(root).as_posix()}"] = path
 
+    # The folder is passed on explicitly: the readers cache by argument, and `$TALKDEM_DATA_DIR` may have
+    # changed since a call without one.
     for task_set in TaskSet:
-        add(task_file(task_set))
-    for splits in dataset_configs().values():
+        add(task_file(task_set, root))
+    for splits in dataset_configs(root).values():
         for paths in splits.values():
             for path in paths:
                 add(path)
     if planner:
-        add(examples_file())
+        add(examples_file(root))
         for path in sorted(_PROMPTS.iterdir()):
             if path.is_file():
                 files[f"{_PROMPTS_LABEL}/{path.name}"] = path
@@ -223,15 +226,13 @@ _UNKNOWN = object()
 
 
 def header_value(header: RunHeader, key: str) -> Any:
-    """A key's value (`NAME` top level or `config.NAME`); a planner setting the header predates reads as its
-    default (what the run used), another absent field as unknown (`_UNKNOWN`)."""
+    """A key's value (`NAME` top level or `config.NAME`); a field the header predates is unknown
+    (`_UNKNOWN`), never today's default: a setting added later may have a default that differs from how
+    older code behaved. (No shard, conditions or limit recorded means none.)"""
     if key.startswith("config."):
         name = key.removeprefix("config.")
         if name in header.config:
             return header.config[name]
-        defaults = planner_defaults()
-        if name in defaults:
-            return defaults[name]
         return None if name in ("shard", "conditions", "limit") else _UNKNOWN
     if key == "inputs":
         return header.inputs or _UNKNOWN
@@ -276,7 +277,8 @@ def check_same_run(run_dir: Path, existing: RunHeader, wanted: RunHeader, keys: 
                 )
             continue
         if before != after:
-            clashes.append(f"{key}: {before!r} there, {after!r} now")
+            shown = "unknown" if after is _UNKNOWN else repr(after)
+            clashes.append(f"{key}: {before!r} there, {shown} now")
     if clashes:
         raise ValueError(f"{run_dir} holds a different run ({'; '.join(clashes)}); choose another --out")
     if unknown:
