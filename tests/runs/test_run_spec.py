@@ -288,3 +288,26 @@ def test_a_strategys_arguments_are_its_plain_settings(monkeypatch: pytest.Monkey
     care = ContextAwareRetrieval(memory=load_memory_bank()[:10], k=2, encode=encode)
     assert strategy_arguments(care) == {"k": 2}  # not the memory bank, the encoder or the embeddings
     assert strategy_arguments(load_strategy("vanilla")) == {}
+
+
+@pytest.mark.parametrize("steps", [-5, 2.7])
+def test_report_refuses_an_impossible_step_limit_in_one_line(tmp_path: Path, steps: float) -> None:
+    from talkdem.runs.external import score_plans
+    from talkdem.runs.sampling import select_episodes
+    from talkdem.schema import parse_conditions
+    from talkdem.tasks import get_task
+
+    run_dir = tmp_path / "run"
+    plans = {e.id: get_task(e.task_id).reference_plan for e in select_episodes(parse_conditions("clean"), 2)}
+    score_plans(plans, run_dir, "p")
+    stored = json.loads((run_dir / "header.json").read_text())
+    stored["config"]["max_steps"] = steps
+    (run_dir / "header.json").write_text(json.dumps(stored))
+    command = [sys.executable, "-m", "talkdem", "report", str(run_dir), "--out", str(tmp_path / "r"), "--no-plots"]
+    result = subprocess.run(command, capture_output=True, text=True, timeout=300)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert result.stderr.strip().splitlines() == [
+        f"talkdem report: error: {run_dir / 'header.json'}: field 'config.max_steps' must be a positive integer, "
+        f"got {steps}"
+    ]
+    assert not (tmp_path / "r").exists()
