@@ -118,23 +118,23 @@ def test_talk_dem_load_takes_a_split_and_the_clean_level_zero(tmp_path: Path) ->
         talk_dem.load("clean", path="no-such-folder")
 
 
-def _copy_with_edit(folder: Path, text: str | None) -> Path:
+def _copy_with_edit(folder: Path, text: str | None, config: str = "intrusion", split: str = "level_2") -> Path:
     """A copy of the dataset named `data` (as every checkout's is) under `folder`, with the first row of
-    `intrusion/level_2` reading `text` (None: unedited)."""
+    `config/split` reading `text` (None: unedited)."""
     import shutil
 
     copy = folder / "data"
     shutil.copytree(DATA, copy, ignore=shutil.ignore_patterns("parity", "tasks"))
     if text is not None:
-        _edit_first_row(copy, text)
+        _edit_first_row(copy, text, config, split)
     return copy
 
 
-def _edit_first_row(copy: Path, text: str) -> None:
+def _edit_first_row(copy: Path, text: str, config: str = "intrusion", split: str = "level_2") -> None:
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    path = copy / "intrusion" / "level_2.parquet"
+    path = copy / config / f"{split}.parquet"
     table = pq.read_table(path)
     rows = table.to_pylist()
     rows[0]["instruction"] = text
@@ -161,18 +161,22 @@ def test_the_loader_reads_what_is_on_disk(monkeypatch: pytest.MonkeyPatch, tmp_p
 def test_the_readme_load_dataset_example_reads_the_folder_it_names(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
+    """The README's `datasets.load_dataset` line for the local dataset folder (`"data"` in a checkout's root,
+    or the folder the package names), run as written in two checkouts whose `data/` differ: each must load
+    its own rows, not the first one's from the shared cache."""
     import re
 
     readme = (repo_root() / "README.md").read_text(encoding="utf-8")
-    found = re.search(r'^ds = datasets\.load_dataset\("data", .*$', readme, flags=re.MULTILINE)
-    assert found, "the README shows loading the checkout's data/ with datasets.load_dataset"
-    example = found.group(0).replace('"referential_imprecision", split="level_3"', '"intrusion", split="level_2"')
-    assert example != found.group(0)
+    pattern = r'^(\w+) = datasets\.load_dataset\(("data"|talk_dem\.data_dir\(\)), "(\w+)", split="(\w+)".*$'
+    found = re.search(pattern, readme, flags=re.MULTILINE)
+    assert found, "the README shows loading the local dataset folder with datasets.load_dataset"
+    example, name, config, split = found.group(0), found.group(1), found.group(3), found.group(4)
     monkeypatch.setattr(datasets.config, "HF_DATASETS_CACHE", tmp_path / "hf")
-    for name, text in (("a", "the first checkout"), ("b", "the second checkout")):
-        _copy_with_edit(tmp_path / name, text)
-        monkeypatch.chdir(tmp_path / name)
-        scope: dict[str, object] = {"datasets": datasets}
+    for checkout, text in (("a", "the first checkout"), ("b", "the second checkout")):
+        copy = _copy_with_edit(tmp_path / checkout, text, config, split)
+        monkeypatch.chdir(tmp_path / checkout)
+        monkeypatch.setenv("TALKDEM_DATA_DIR", str(copy))
+        scope: dict[str, object] = {"datasets": datasets, "talk_dem": talk_dem}
         exec(example, scope)
-        loaded = scope["ds"]
+        loaded = scope[name]
         assert isinstance(loaded, datasets.Dataset) and loaded[0]["instruction"] == text
