@@ -311,3 +311,19 @@ def test_report_refuses_an_impossible_step_limit_in_one_line(tmp_path: Path, ste
         f"got {steps}"
     ]
     assert not (tmp_path / "r").exists()
+
+
+def test_the_report_names_an_input_file_that_changed_since_the_run(tmp_path: Path) -> None:
+    data = _data_copy(tmp_path)
+    run_dir = tmp_path / "run"
+    assert _finish(_scripted(run_dir, data))[0] == 0
+    tasks = data / "tasks" / "benchmark.jsonl"
+    before = _sha(tasks)
+    tasks.write_text(tasks.read_text().replace('"repeat_idx": 1,', '"repeat_idx": 2,', 1))
+    command = [sys.executable, "-m", "talkdem", "report", str(run_dir), "--out", str(tmp_path / "r"), "--no-plots"]
+    env = {**os.environ, "TALKDEM_DATA_DIR": str(data)}
+    result = subprocess.run(command, capture_output=True, text=True, timeout=300, env=env)
+    assert result.returncode == 0, result.stderr
+    assert (
+        f"input files changed since the run: data/tasks/benchmark.jsonl (sha256 {before[:12]}... -> " in result.stderr
+    )
