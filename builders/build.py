@@ -5,6 +5,9 @@ regenerated up to two more times when it fails (paper, appendix "Rule-Constraine
 units are appended to a JSONL checkpoint (one line each, flushed), so a build killed at any
 point, `kill -9` included, resumes where it stopped; every request has its own seed, so the resumed result
 is byte-identical to an uninterrupted one. A truncated last line (a kill mid-write) is dropped with a warning.
+The checkpoint's first line holds the build's settings (generator, prompt set, seed, `--limit`, the tasks'
+sha256): only that build resumes from it and deletes it when done; any other build given the same file is
+refused before anything in it is cut, reused or deleted.
 """
 
 from __future__ import annotations
