@@ -1,0 +1,92 @@
+"""Drive the viewer in headless Chromium: a copy of its page (beside the original, so `data/` resolves) gets a
+script that, after load, acts like a reader (dispatching the same events a keyboard and a mouse do), then
+writes what it saw into the DOM that `--dump-dom` prints."""
+
+from __future__ import annotations
+
+import html
+import json
+import re
+import subprocess
+from pathlib import Path
+from typing import Any
+
+from browser_helpers import chromium
+
+_FLAGS = (
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+)
+
+_HARNESS = """
+window.addEventListener('load', function(){
+  var out = {loadedAt: performance.now()};
+  var $ = function(id){ return document.getElementById(id); };
+  function finish(){ var pre = document.createElement('pre'); pre.id = 'measurements';
+    pre.textContent = JSON.stringify(out); document.body.appendChild(pre); }
+  function waitFor(cond, then, tries){ tries = tries || 0; if (cond()) { try { then(); } catch (e) { out.error = String(e); finish(); } return; }
+    if (tries > 400) { out.timeout = true; return finish(); } setTimeout(function(){ waitFor(cond, then, tries + 1); }, 25); }
+  function key(k){ document.dispatchEvent(new KeyboardEvent('keydown', {key: k, bubbles: true})); }
+  function set(id, value){ var e = $(id); e.value = value;
+    e.dispatchEvent(new Event(e.tagName === 'INPUT' ? 'input' : 'change', {bubbles: true})); }
+  function rows(){ return Array.from(document.querySelectorAll('#episodes tbody tr')).map(function(tr){
+    return {row: Number(tr.dataset.row), id: tr.cells[1].title, cells: Array.from(tr.cells).map(function(td){ return td.textContent; })}; }); }
+  function chunksLoaded(){ return Array.from(document.querySelectorAll('script[data-chunk]')).map(function(s){ return Number(s.dataset.chunk); }); }
+  function opened(){ return document.body.dataset.opened !== undefined && document.querySelector('#episode-body .steps'); }
+  try {
+STEPS
+  } catch (e) { out.error = String(e); finish(); }
+});
+"""
+
+
+def drive(page: Path, steps: str, profile: Path, name: str = "driven") -> dict[str, Any]:
+    """Open a copy of `page` with `steps` (JavaScript using the harness's helpers, ending in `finish()`) and
+    return the `out` object they filled. `profile` is Chromium's user-data folder: reuse it to keep
+    localStorage between two visits."""
+    text = page.read_text(encoding="utf-8")
+    assert "</body>" in text
+    copy = page.with_name(f"{name}.html")
+    copy.write_text(text.replace("</body>", f"<script>{_HARNESS.replace('STEPS', steps)}</script></body>"), "utf-8")
+    result = subprocess.run(
+        [
+            chromium(),
+            *_FLAGS,
+            f"--user-data-dir={profile}",
+            "--window-size=1500,1000",
+            "--virtual-time-budget=30000",
+            "--dump-dom",
+            copy.as_uri(),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=180,
+        check=False,
+    )
+    assert result.returncode == 0, f"chromium failed ({result.returncode}): {result.stderr[-2000:]}"
+    found = re.search(r'<pre id="measurements">(.*?)</pre>', result.stdout, re.S)
+    assert found, f"the driving script did not finish in Chromium: {result.stdout[-1500:]}"
+    data: dict[str, Any] = json.loads(html.unescape(found.group(1)))
+    assert "error" not in data, data["error"]
+    assert not data.get("timeout"), f"timed out waiting in the page: {data}"
+    return data
+
+
+def index_of(folder: Path) -> dict[str, Any]:
+    """The viewer's index (data/index.js) as Python data."""
+    text = (folder / "data" / "index.js").read_text(encoding="utf-8")
+    payload = text[text.index("= ") + 2 :].rstrip().removesuffix(";")
+    data: dict[str, Any] = json.loads(payload)
+    return data
+
+
+def chunk_of(folder: Path, number: int) -> list[dict[str, Any]]:
+    text = (folder / "data" / f"chunk-{number:04d}.js").read_text(encoding="utf-8")
+    payload = text[text.index(",") + 1 :].rstrip().removesuffix(");")
+    data: list[dict[str, Any]] = json.loads(payload)
+    return data
