@@ -12,12 +12,9 @@ sys.path.insert(0, str(Path(__file__).parent.parent / "metrics"))
 sys.path.insert(0, str(Path(__file__).parent))
 
 import pytest
+from viewer_browser import COMMITTED
 
 from talkdem.viewer import ErrorSample, ViewedRun, ViewerFiles, load_runs, sample_errors, write_viewer
-
-ROOT = Path(__file__).resolve().parent.parent.parent
-BASELINE = ROOT / "results" / "baseline"
-COMMITTED = (BASELINE / "qwen2.5-coder-0.5b-vanilla", BASELINE / "qwen2.5-coder-0.5b-care")
 
 
 @pytest.fixture(scope="session")

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from viewer_browser import chunk_of, drive, index_of
+from viewer_browser import BASELINE, chunk_of, drive, index_of
 
 from talkdem.viewer import ErrorSample, ViewerFiles, word_diff
 
@@ -23,13 +23,15 @@ key('Enter');
 waitFor(opened, function(){
   var cols = document.querySelectorAll('#episode-body .col');
   out.title = $('episode-title').textContent; out.openedRow = Number(document.body.dataset.opened);
-  out.steps = Array.from(cols[0].querySelectorAll('.steps tr')).map(function(tr){ return [tr.className, tr.cells[1].textContent, tr.cells[2].textContent]; });
+  out.steps = Array.from(cols[0].querySelectorAll('.steps tr'))
+    .map(function(tr){ return [tr.className, tr.cells[1].textContent, tr.cells[2].textContent]; });
   out.marks = Array.from(cols[0].querySelectorAll('mark.ins')).map(function(m){ return m.textContent; });
   out.instruction = cols[0].querySelector('.instruction').textContent;
   out.goals = Array.from(cols[0].querySelectorAll('ul.goals li')).map(function(li){ return li.textContent; });
   out.cleanHeading = cols[1].querySelector('h3').textContent;
   out.cleanMarks = cols[1].querySelectorAll('mark').length;
-  out.reference = Array.from(document.querySelectorAll('#episode-body ol.ref li')).map(function(li){ return li.textContent; });
+  out.reference = Array.from(document.querySelectorAll('#episode-body ol.ref li'))
+    .map(function(li){ return li.textContent; });
   out.automatic = ($('automatic') || {}).textContent;
   out.checked = (document.querySelector('#label-box input:checked') || {}).value;
   out.chunksOpen = chunksLoaded();
@@ -63,7 +65,8 @@ def test_opens_with_every_episode_and_no_detail_loaded(session: dict[str, Any]) 
     seen, index = session["first"], session["index"]
     assert seen["ready"] == "1"
     assert seen["count0"] == "720 of 720 episodes"
-    assert "qwen2.5-coder-0.5b / Vanilla (360)" in seen["summary"] and "qwen2.5-coder-0.5b / CARE (360)" in seen["summary"]
+    assert "qwen2.5-coder-0.5b / Vanilla (360)" in seen["summary"]
+    assert "qwen2.5-coder-0.5b / CARE (360)" in seen["summary"]
     assert seen["rows0"] == 100  # one page of the table
     assert seen["chunks0"] == [] and seen["chunksAfterFilter"] == []  # details are loaded when an episode opens
     assert len(index["rows"]) == 720
@@ -93,7 +96,8 @@ def test_opened_episode_shows_steps_highlight_clean_twin_and_reference(
     assert int(seen["selected"]) == second["row"] == seen["openedRow"]  # j, j, k: the second row
     row = index["rows"][second["row"]]
     assert seen["title"] == row[f["episode_id"]]
-    detail = chunk_of(committed_viewer.folder, second["row"] // index["chunk_size"])[second["row"] % index["chunk_size"]]
+    chunk, offset = divmod(second["row"], index["chunk_size"])
+    detail = chunk_of(committed_viewer.folder, chunk)[offset]
     assert [s[1] for s in seen["steps"]] == [s[0] for s in detail["steps"]] and seen["steps"]
     for (cls, _, result), step in zip(seen["steps"], detail["steps"], strict=True):
         assert (cls == "done") == bool(step[1])
@@ -141,8 +145,6 @@ def test_labels_persist_in_the_browser(session: dict[str, Any]) -> None:
 
 def test_every_committed_run_renders(tmp_path: Path) -> None:
     """`talkdem view` over every committed run directory at once (the baseline, the oracle, the levels)."""
-    from conftest import BASELINE
-
     from talkdem.cli import main
 
     dirs = sorted(p.parent for p in BASELINE.rglob("header.json"))
