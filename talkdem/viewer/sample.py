@@ -83,11 +83,12 @@ def sample_errors(runs: Sequence[ViewedRun], per_condition: int = 3, seed: int =
             by_condition.setdefault(condition, []).append(
                 SampledFailure(run.label, episode.episode_id, condition, episode.error.type, episode.error.reason)
             )
+        covered = {str(e.record.condition) for e in run.episodes}
         # Conditions in the benchmark's order, so the draw does not depend on which one a run stored first.
         for condition in (str(c) for c in CONDITIONS if not c.is_clean):
             candidates = sorted(by_condition.get(condition, []), key=lambda f: f.episode_id)
-            if not candidates:
-                continue
+            if condition not in covered:
+                continue  # a condition the run did not cover is not short of failures
             if len(candidates) < per_condition:
                 short.append((run.label, condition, len(candidates)))
             failures += rng.sample(candidates, min(per_condition, len(candidates)))
