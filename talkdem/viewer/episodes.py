@@ -14,11 +14,13 @@ from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from talkdem.metrics.episodes import ScoringInputError, plan_length
 from talkdem.metrics.errors import ErrorClassification, classify_error
 from talkdem.runs import EpisodeRecord, RunHeader, read_episodes, read_header
 from talkdem.schema import CLEAN, LEVELS, PATTERN_CONFIGS
+from talkdem.serialization import to_jsonable
 from talkdem.sim import DEFAULT_MAX_STEPS, run_plan
 
 __all__ = ["ViewedEpisode", "ViewedRun", "load_runs"]
@@ -32,7 +34,8 @@ class ViewedEpisode:
     """One stored episode with the simulator's re-execution of its plan."""
 
     record: EpisodeRecord
-    """As stored, with the trace reduced to its steps, goal report, hazards and end reason."""
+    """As stored, with the trace reduced to its steps, goal report, hazards and end reason (those of the
+    re-execution when the record stored no trace)."""
     task_type: str
     clean_text: str
     """The dataset's clean instruction of the task ("" when the dataset does not hold the instruction)."""
@@ -76,6 +79,8 @@ class _Executed:
     hazards: tuple[str, ...]
     plan_length: int
     error: ErrorClassification | None
+    shown: dict[str, Any]
+    """The re-execution's steps, goal report, hazards and end reason, for records stored without a trace."""
 
 
 def load_runs(run_dirs: Sequence[Path]) -> list[ViewedRun]:
@@ -113,10 +118,14 @@ def load_runs(run_dirs: Sequence[Path]) -> list[ViewedRun]:
                     tuple(h.category.value for h in trace.hazards),
                     plan_length(trace),
                     classify_error(task, trace),
+                    {name: to_jsonable(getattr(trace, name)) for name in _SHOWN_TRACE},
                 )
             done = executed[key]
             instruction = instructions.get(record.episode_id)
-            shown = {k: record.trace[k] for k in _SHOWN_TRACE if k in record.trace}
+            # The stored trace is what the planner was told during the run; a record without one (plans
+            # scored elsewhere, hand-made runs) shows the re-execution's.
+            stored = {k: record.trace[k] for k in _SHOWN_TRACE if k in record.trace}
+            shown = stored if "steps" in stored else done.shown
             episodes.append(
                 ViewedEpisode(
                     record=dataclasses.replace(record, trace=shown),

@@ -195,3 +195,17 @@ def test_cli_view_and_sample(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and re.search(r"error sample: episode \d+ \(qwen2.5-coder-0.5b / CARE / ", err)
     assert not (tmp_path / "w").exists()
+
+
+def test_records_without_a_trace_show_the_re_execution(tmp_path: Path) -> None:
+    from metrics_helpers import write_run
+
+    plans = {clean_id(BOOK): reference(BOOK), pattern_id(BOOK, "topic_drift", 1): failing(BOOK)}
+    files = write_viewer(load_runs([write_run(tmp_path / "run", plans)]), tmp_path / "viewer")
+    details = chunk_of(files.folder, 0)
+    for detail, plan in zip(details, plans.values(), strict=True):
+        assert [s[0] for s in detail["steps"]] == plan and detail["end"] == "done"
+        assert detail["goals"] and all(len(g) == 2 for g in detail["goals"])
+    assert all(g[1] for g in details[0]["goals"]) and not all(g[1] for g in details[1]["goals"])
+    index = index_of(files.folder)
+    assert [r[index["fields"].index("error")] for r in index["rows"]] == ["", "subgoal_omission"]

@@ -279,10 +279,19 @@ document.addEventListener('keydown', function(ev){
   }
 });
 
+function stickHead(){  /* the table head sticks just under the filter bar, whatever its height */
+  var h = $('controls').offsetHeight + 'px';
+  Array.prototype.forEach.call(document.querySelectorAll('#episodes th'), function(th){ th.style.top = h; });
+}
+window.addEventListener('resize', stickHead);
 var runs = D.runs.map(function(x){ return x.label + ' (' + x.episodes.toLocaleString('en') + ')'; }).join('; ');
 $('summary').textContent = rows.length.toLocaleString('en') + ' episodes of ' + D.runs.length + ' run' + (D.runs.length === 1 ? '' : 's') + ': ' + runs + '.';
 refresh(true);
+stickHead();
 window.talkdemViewer = {exportLabels: exportLabels, labels: function(){ return JSON.parse(JSON.stringify(labels)); }};
-var m = /^#e=(\d+)$/.exec(location.hash); if (m && Number(m[1]) < rows.length) openRow(Number(m[1]));
+var m = /^#e=(\d+)$/.exec(location.hash);
+if (m && Number(m[1]) < rows.length) {  /* a link to one episode: select it in the table too */
+  selected = Math.max(0, view.indexOf(Number(m[1]))); page = Math.floor(selected / PAGE); renderTable(); openRow(Number(m[1]));
+}
 document.body.dataset.ready = '1';
 })();
