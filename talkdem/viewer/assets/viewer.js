@@ -195,7 +195,9 @@ function labelBox(i){
   D.types.forEach(function(t, n){
     var lab = el('label'), input = el('input', {type: 'radio', name: 'error-type', value: t[0]});
     input.checked = t[0] === current;
-    input.addEventListener('change', function(){ if (input.checked) saveLabel(i, t[0]); });
+    /* Focus leaves the radio once saved: arrow keys would otherwise move the choice (and save it) while
+       the reader means to move to the next episode. */
+    input.addEventListener('change', function(){ if (input.checked) { saveLabel(i, t[0]); input.blur(); } });
     lab.appendChild(input); lab.appendChild(document.createTextNode(' ' + (n + 1) + ' ' + t[1])); form.appendChild(lab);
   });
   box.appendChild(form);
@@ -269,6 +271,8 @@ document.addEventListener('keydown', function(ev){
   var typing = ev.target && (ev.target.tagName === 'INPUT' && ev.target.type !== 'radio' || ev.target.tagName === 'TEXTAREA' || ev.target.tagName === 'SELECT');
   if (ev.key === 'Escape') { if (typing) ev.target.blur(); else closePane(); return; }
   if (typing || ev.ctrlKey || ev.metaKey || ev.altKey) return;
+  if (ev.target && ev.target.tagName === 'BUTTON' && (ev.key === 'Enter' || ev.key === ' ')) return;  /* the button's own */
+  if (ev.target && ev.target.type === 'radio' && ev.key.indexOf('Arrow') === 0) return;  /* choosing a type by keyboard */
   if (ev.key === '/') { ev.preventDefault(); $('search').focus(); }
   else if (ev.key === 'j' || ev.key === 'ArrowDown') { ev.preventDefault(); move(1); }
   else if (ev.key === 'k' || ev.key === 'ArrowUp') { ev.preventDefault(); move(-1); }
