@@ -1,6 +1,7 @@
 """Write the viewer folder: a static page that works from file:// and as a static Space (no server).
 
     OUT/index.html             the page (inline style and script)
+    OUT/README.md              a static Space's card (the folder uploads as a Space as it is)
     OUT/data/index.js          one compact row per episode: what the table, the filters and the search need
     OUT/data/chunk-NNNN.js     the details of `chunk_size` consecutive episodes, loaded when one is opened
 
@@ -267,4 +268,22 @@ def write_viewer(
         path.write_text(f"window.TALKDEM_VIEWER_CHUNK({number},{script_json(details)});\n", encoding="utf-8")
         files.chunks.append(path)
     files.page.write_text(render_page(title), encoding="utf-8")
+    (out / "README.md").write_text(_SPACE_CARD.format(title=title, n=len(rows), runs=len(runs)), encoding="utf-8")
     return files
+
+
+_SPACE_CARD = """---
+title: {title}
+sdk: static
+app_file: index.html
+pinned: false
+---
+
+# {title}
+
+{n} episodes of {runs} TALK-Dem run(s), written by `talkdem view`: filter and search the table, open an
+episode (instruction against its clean control, the plan step by step with the simulator's feedback, goal
+conditions, hazards, the reference plan) and label failures with the paper's six error types. Labels stay in
+the browser until exported; `talkdem report RUN_DIR... --labels FILE` compares them with the automatic
+classifier.
+"""

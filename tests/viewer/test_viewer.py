@@ -149,6 +149,7 @@ def test_the_folder_rule(tmp_path: Path, committed_runs: list) -> None:  # type:
     assert len(list((out / "data").glob("chunk-*.js"))) == 8
     write_viewer(committed_runs, out, chunk_size=400)  # rewriting its own folder replaces the old chunks
     assert len(list((out / "data").glob("chunk-*.js"))) == 2
+    assert "sdk: static" in (out / "README.md").read_text()
 
 
 def test_log_top_candidates_are_stored_in_the_record(tmp_path: Path) -> None:

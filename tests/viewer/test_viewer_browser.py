@@ -49,6 +49,7 @@ _REVISIT = """
 out.tags = Array.from(document.querySelectorAll('.tag.lab')).map(function(t){ return t.textContent; });
 set('f-label', 'labelled'); out.labelledRows = rows(); out.progress = $('progress').textContent;
 out.exported = window.talkdemViewer.exportLabels();
+key('/'); out.focused = document.activeElement.id;
 finish();
 """
 
@@ -140,6 +141,7 @@ def test_labels_persist_in_the_browser(session: dict[str, Any]) -> None:
     assert again["tags"] == ["labelled: State"]
     assert [r["row"] for r in again["labelledRows"]] == [first["openedRow"]]
     assert "1 failure labelled in this browser" in again["progress"]
+    assert again["focused"] == "search"  # `/` searches
     assert json.loads(again["exported"])["labels"] == json.loads(first["exported"])["labels"]
 
 
