@@ -52,6 +52,8 @@ def _strategy_label(text: str) -> str:
 def run(args: argparse.Namespace) -> int:
     from talkdem.report import score_runs, write_report
 
+    if args.labels is not None and not args.labels.is_file():  # before minutes of scoring, not after
+        raise FileNotFoundError(f"{args.labels}: no such labels file (export one from `talkdem view`)")
     runs = score_runs(args.run_dirs, bootstrap=args.bootstrap)
     extra = []
     if args.labels is not None:
