@@ -8,6 +8,8 @@ import re
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from metrics_helpers import BOOK, LAMP, clean_id, failing, pattern_id, reference
 from viewer_browser import COMMITTED, chunk_of, drive, index_of
 
@@ -28,6 +30,15 @@ def test_word_diff_marks_what_the_pattern_added() -> None:
     inserted = " ".join(t.strip() for kind, t in segments if kind == "ins")
     assert inserted == "the, um, thing, you know,"
     assert all("mug" not in t for kind, t in segments if kind == "ins")  # "sink" vs "sink," still matches
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.text(alphabet="ab ,.\n", max_size=40), st.text(alphabet="ab ,.\n", max_size=40))
+def test_word_diff_keeps_the_text_and_the_clean_words(clean: str, text: str) -> None:
+    segments = word_diff(clean, text)
+    assert "".join(t for kind, t in segments if kind != "del") == text
+    kept = " ".join(t for kind, t in segments if kind in ("same", "del")).split()
+    assert len(kept) == len(clean.split())  # every clean word is shown once, shared or struck out
 
 
 def test_word_diff_shows_replaced_clean_words() -> None:
@@ -95,7 +106,7 @@ def test_embedded_strings_are_escaped_and_carry_no_machine_path(hostile: tuple[P
         text = path.read_text(encoding="utf-8")
         assert str(root) not in text and "secret-models" not in text and "/home/" not in text, path.name
         if path != files.page:
-            assert "<" not in text.split("\n", 1)[1], path.name  # past the comment line: no markup at all
+            assert "<" not in text and ">" not in text, path.name  # the data scripts hold no markup at all
     index = index_of(files.folder)
     assert index["runs"][0]["model"] == "tiny.Q8_0.gguf" and index["runs"][0]["run_dir"] == "hostile"
     detail = chunk_of(files.folder, 1)[0]
