@@ -1,6 +1,12 @@
 /* Injected by viewer_browser.drive: helpers for the STEPS a test runs after the viewer loaded. */
 window.addEventListener('load', function(){
-  var out = {loadedAt: performance.now()};
+  var out = {loadedAt: performance.now(), downloads: []};
+  /* A download is recorded, not made: what the Export button hands the browser is what the test checks. */
+  var click = HTMLAnchorElement.prototype.click;
+  HTMLAnchorElement.prototype.click = function(){
+    if (!this.hasAttribute('download')) return click.call(this);
+    out.downloads.push({name: this.getAttribute('download'), blob: this.href.indexOf('blob:') === 0});
+  };
   var $ = function(id){ return document.getElementById(id); };
   function finish(){ var pre = document.createElement('pre'); pre.id = 'measurements';
     pre.textContent = JSON.stringify(out); document.body.appendChild(pre); }

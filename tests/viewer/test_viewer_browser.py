@@ -132,6 +132,7 @@ def test_label_is_prefilled_saved_and_exported(session: dict[str, Any], committe
         }
     ]
     assert exported["sample"] == {"seed": 7, "per_condition": 3, "n": len(committed_sample.failures)}
+    assert seen["downloads"] == [{"name": "talkdem-labels.json", "blob": True}]  # a Blob download of the file
     assert seen["paneHidden"] is True
     assert [r["row"] for r in seen["labelledRows"]] == [seen["openedRow"]]
 
