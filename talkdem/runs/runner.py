@@ -11,6 +11,7 @@ Buffering and writing in order instead would lose up to N-1 finished episodes on
 from __future__ import annotations
 
 import contextlib
+import json
 import queue
 import sys
 from collections.abc import Sequence
@@ -50,6 +51,11 @@ class RunSummary:
 
 
 def episode_record(instruction: Instruction, result: PlanResult, shown: str, notes: dict[str, str]) -> EpisodeRecord:
+    if result.top_candidates:
+        # `--log-top N`: each step's best skills and scores, kept in the record (notes hold text, so JSON)
+        # for the viewer; a log alone would be lost with the terminal.
+        top = [[[skill, round(score, 4)] for skill, score in step] for step in result.top_candidates]
+        notes = {**notes, "top_candidates": json.dumps(top, ensure_ascii=False)}
     return EpisodeRecord.from_trace(
         instruction,
         result.plan,
