@@ -63,7 +63,7 @@ def _hostile_run(root: Path) -> Path:
             planner="saycan",
             strategy="care",
             prompt_version="test",
-            dataset_hash="test",
+            dataset_hash="0" * 64,  # a sha256 digest, as headers are validated on read
             code_revision="test",
             config={"max_steps": 30},
         ),
