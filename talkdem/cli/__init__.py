@@ -25,6 +25,7 @@ from talkdem.cli import (
     push,
     report,
     run,
+    sample_errors,
     score,
     select,
     simulate,
@@ -32,6 +33,7 @@ from talkdem.cli import (
     tasks,
     verify,
     verify_run,
+    view,
 )
 
 __all__ = ["build_parser", "main"]
@@ -54,6 +56,8 @@ _COMMANDS = (
     import_inspect,
     verify_run,
     report,
+    view,
+    sample_errors,
     leaderboard,
     models,
 )

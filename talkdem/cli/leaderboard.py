@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import non_negative_int
+from talkdem.cli.arguments import non_negative_int, page_link
 
 __all__ = ["register"]
 
@@ -23,6 +23,9 @@ def register(subparsers: Any) -> None:
     parser.add_argument("--from-results", type=Path, metavar="DIR", help="also show the results files under DIR")
     parser.add_argument(
         "--bootstrap", type=non_negative_int, default=1000, help="bootstrap resamples for intervals (0: none)"
+    )
+    parser.add_argument(
+        "--viewer", type=page_link, metavar="HREF", help="link the page to the episode viewer (`talkdem view`)"
     )
     parser.set_defaults(handler=run)
 
@@ -47,9 +50,9 @@ def run(args: argparse.Namespace) -> int:
         fresh = [results_record(r) for r in runs]
         ids = {r["run_id"] for r in fresh}
         records = [r for r in read_results(args.from_results) if r["run_id"] not in ids] + fresh
-        written = write_space(records, args.out)
+        written = write_space(records, args.out, viewer=args.viewer)
     else:
-        written = write_leaderboard(runs, args.out)
+        written = write_leaderboard(runs, args.out, viewer=args.viewer)
     # What the page shows: the runs given plus results already in the folder.
     standings = rank_records(json.loads((args.out / "leaderboard.json").read_text(encoding="utf-8")))
     print(f"rank key: {RANK_KEY}")

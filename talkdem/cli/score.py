@@ -16,12 +16,17 @@ def register(subparsers: Any) -> None:
     parser.add_argument("plans", type=Path, help="JSONL file, one episode per line")
     parser.add_argument("--out", type=Path, required=True, help="run directory to create")
     parser.add_argument("--name", default="external", help="name of the system that wrote the plans")
+    parser.add_argument(
+        "--continue-on-new-revision",
+        action="store_true",
+        help="resume a run started on another code revision (refused otherwise); the header records both",
+    )
     parser.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from talkdem.runs.external import score_plan_file
 
-    count = score_plan_file(args.plans, args.out, args.name)
+    count = score_plan_file(args.plans, args.out, args.name, new_revision_ok=args.continue_on_new_revision)
     print(f"{args.out}: {count} episodes executed and scored")
     return 0

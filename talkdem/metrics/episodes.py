@@ -192,7 +192,9 @@ def pair_predictions(predictions: Sequence[object], references: Sequence[object]
 def results_from_run(run_dir: Path, *, run: str = "") -> list[EpisodeResult]:
     """The episodes of a run directory as stored: outcome, hazards and trace are read, nothing is executed
     (`talkdem verify-run` checks them against the simulator)."""
-    from talkdem.runs import read_episodes
+    import warnings
+
+    from talkdem.runs import read_episodes, read_header
 
     records = read_episodes(run_dir)
     if not records:
@@ -218,4 +220,26 @@ def results_from_run(run_dir: Path, *, run: str = "") -> list[EpisodeResult]:
                 f"{run_dir}: the stored success flag contradicts the stored trace's goal report", [record.episode_id]
             )
         results.append(result)
+    moved = _changed_inputs(read_header(run_dir).inputs)
+    if moved:
+        warnings.warn(
+            f"{run_dir}: input files changed since the run: {', '.join(moved)}; its stored outcomes are what the "
+            "run saw (`talkdem verify-run` re-executes them now)",
+            stacklevel=2,
+        )
     return results
+
+
+def _changed_inputs(recorded: dict[str, str]) -> list[str]:
+    """`NAME (sha256 A... -> B...)` for each input file the run recorded that differs on disk now (runs
+    written before inputs were hashed record none)."""
+    if not recorded:
+        return []
+    from talkdem.runs.spec import input_hashes
+
+    now = input_hashes()
+    return [
+        f"{name} (sha256 {digest[:12]}... -> {now[name][:12]}...)"
+        for name, digest in sorted(recorded.items())
+        if name in now and now[name] != digest
+    ]

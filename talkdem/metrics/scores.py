@@ -254,7 +254,7 @@ def score_predictions(
 
 
 def score_run(run_dir: Path, *, retention: bool = True, bootstrap: int = 1000, seed: int = BOOTSTRAP_SEED) -> Scores:
-    """Score a run directory (its plans are re-executed in the simulator)."""
+    """Score a run directory from its stored outcomes (`talkdem verify-run` re-executes them)."""
     return compute_scores(results_from_run(run_dir), retention=retention, bootstrap=bootstrap, seed=seed)
 
 

@@ -66,17 +66,6 @@ class ReActConfig:
     def planner_name(self) -> str:
         return "react"
 
-    def header_config(self) -> dict[str, object]:
-        """What a run header records (the keys resume and merge compare are all present)."""
-        return {
-            "max_steps": self.max_steps,
-            "scoring": "sum",
-            "mask_failed": False,
-            "mode": "react",
-            "thought_tokens": self.thought_tokens,
-            "simulator": self.simulator,
-        }
-
 
 def _demo_thought(skill: str) -> str:
     # Demonstrations are reference plans (every step succeeds), so their thoughts can only announce the step.

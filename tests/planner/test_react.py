@@ -85,7 +85,7 @@ def test_a_react_run_directory_keeps_the_thoughts(tmp_path: Path) -> None:
     summary = run_episodes(episodes, model, load_strategy("vanilla"), tmp_path / "run", ReActConfig(), progress=False)
     assert summary.ran == 2
     header = read_header(tmp_path / "run")
-    assert header.planner == "react" and header.config["mode"] == "react"
+    assert header.planner == "react" and header.config["thought_tokens"] == 24
     assert header.prompt_version.startswith("react-")
     for record in read_episodes(tmp_path / "run"):
         assert record.plan == ("find an apple", "done")
