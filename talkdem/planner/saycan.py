@@ -31,7 +31,7 @@ from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration, append_step, build_prompt
 from talkdem.planner.strategies import PlannerInput
 from talkdem.seeds.records import SeedTask
-from talkdem.sim import Episode, EpisodeTrace
+from talkdem.sim import DEFAULT_MAX_STEPS, Episode, EpisodeTrace
 from talkdem.skills import vocabulary
 
 __all__ = ["PlanResult", "SayCanConfig", "SayCanPlanner", "nearest_skill"]
@@ -41,7 +41,7 @@ _log = logging.getLogger(__name__)
 
 @dataclass(frozen=True)
 class SayCanConfig:
-    max_steps: int = 30
+    max_steps: int = DEFAULT_MAX_STEPS
     scoring: Literal["sum", "mean"] = "sum"
     mask_failed: bool = True
     mode: Literal["scoring", "generative"] = "scoring"
@@ -141,7 +141,7 @@ class SayCanPlanner:
         self._top = []
         blocked: set[str] = set()
         # The episode steps along with the planner: each skill is executed once, as it is chosen.
-        episode = Episode.start(task)
+        episode = Episode.start(task, max_steps=self.config.max_steps)
         for step in range(1, self.config.max_steps + 1):
             skill, score, text = self._choose(context, blocked)
             plan.append(skill)

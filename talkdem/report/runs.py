@@ -13,6 +13,7 @@ from talkdem.planner.strategies import STRATEGIES
 from talkdem.report.coverage import Coverage, coverage_of
 from talkdem.report.public import public_model, unique_stems
 from talkdem.runs import RunHeader, read_header
+from talkdem.runs.oracle import ORACLE_STRATEGY
 
 __all__ = [
     "REFERENCE_STRATEGY",
@@ -38,8 +39,8 @@ def slug(text: str) -> str:
     return unique_stems([text])[0]
 
 
-REFERENCE_STRATEGY = "reference plans"
-"""The strategy name of the oracle run (`talkdem.runs.oracle`)."""
+REFERENCE_STRATEGY = ORACLE_STRATEGY
+"""The strategy name of the oracle run (defined once, in `talkdem.runs.oracle`)."""
 
 
 @dataclass(frozen=True)

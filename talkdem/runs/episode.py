@@ -8,13 +8,14 @@ depend on which door a plan came in by.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 from talkdem.instructions import Instruction
 from talkdem.runs.records import EpisodeRecord
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorBackend, execute_plan, load_simulator
 from talkdem.sim.trace import EpisodeTrace
 
-__all__ = ["out_of_vocabulary", "play_plan"]
+__all__ = ["out_of_vocabulary", "out_of_vocabulary_steps", "play_plan"]
 
 
 def play_plan(
@@ -37,3 +38,15 @@ def play_plan(
 def out_of_vocabulary(trace: EpisodeTrace) -> int:
     """Executed steps that named no skill (the simulator failed them: `instruction not supported`)."""
     return sum(1 for step in trace.steps if step.parsed is None)
+
+
+def out_of_vocabulary_steps(run_dir: Path) -> tuple[int, int]:
+    """(steps naming no skill, episodes with at least one) over a run directory's stored traces."""
+    from talkdem.runs.store import read_episodes
+
+    steps = episodes = 0
+    for record in read_episodes(run_dir):
+        count = sum(1 for step in record.trace.get("steps", ()) if step.get("parsed") is None)
+        steps += count
+        episodes += count > 0
+    return steps, episodes

@@ -8,11 +8,11 @@ from pathlib import Path
 
 from talkdem.instructions import Instruction, load_instructions
 from talkdem.plans import Plan, check_plan
-from talkdem.runs.records import EpisodeRecord, RunHeader
+from talkdem.runs.episode import play_plan
+from talkdem.runs.records import RunHeader
 from talkdem.runs.store import EpisodeWriter, finish_status, open_run, run_lock, set_status
+from talkdem.schema import parse_instruction_id
 from talkdem.serialization import parse_json
-from talkdem.sim import run_plan
-from talkdem.tasks import get_task
 
 __all__ = ["EXTERNAL_RESUME_KEYS", "plans_digest", "read_plan_file", "score_plan_file", "score_plans"]
 
@@ -22,7 +22,10 @@ EXTERNAL_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash", "config.
 
 
 def read_plan_file(path: Path) -> dict[str, Plan]:
-    """`{"episode_id": ..., "plan": [...]}` per line (`id` is accepted for `episode_id`); errors name the line."""
+    """`{"episode_id": ..., "plan": [...]}` per line (`id` is accepted for `episode_id`); errors name the line.
+
+    Ids follow the metric's rule (`talkdem.schema.parse_instruction_id`): `<task>:clean` is the clean
+    instruction's short form, stored under its long form `<task>:clean:0`."""
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -40,6 +43,12 @@ def read_plan_file(path: Path) -> dict[str, Plan]:
         if not isinstance(episode_id, str):
             raise ValueError(f"{where}: expected an object with a string 'episode_id'")
         plan = check_plan(row.get("plan"), f"{where} ({episode_id})")
+        try:
+            task_id, condition = parse_instruction_id(episode_id)
+        except ValueError as exc:
+            raise ValueError(f"{where}: {exc}") from None
+        if f"{task_id}:{condition.pattern}:{condition.level}" in known:
+            episode_id = f"{task_id}:{condition.pattern}:{condition.level}"
         if episode_id not in known:
             raise ValueError(f"{where}: unknown episode id '{episode_id}'")
         if episode_id in plans:
@@ -66,11 +75,14 @@ def score_plans(
     source: str = "",
     *,
     new_revision_ok: bool = False,
+    model: str = "",
+    version: str = "",
 ) -> int:
     """Execute every plan into `run_dir` (planner `external`), resuming a run killed part-way with the
     same plans; returns the number of episodes in the run. `source` names where the plans came from
     (a file name, never a machine path: the header is published). A run started on another code revision
-    is resumed only with `new_revision_ok` (both revisions are recorded)."""
+    is resumed only with `new_revision_ok` (both revisions are recorded). `model` and `version` name what the
+    system ran on and which version of it wrote the plans (recorded; a new version is another run)."""
     from talkdem.runs.spec import input_hashes
 
     by_id: dict[str, Instruction] = {i.id: i for i in load_instructions()}
@@ -78,11 +90,16 @@ def score_plans(
     if unknown:
         raise ValueError(f"unknown episode ids: {', '.join(unknown[:5])}")
     header = RunHeader.new(
-        model={"backend": "external", "name": system_name, "revision": ""},
+        model={"backend": "external", "name": system_name, "revision": version},
         planner="external",
         strategy=strategy,
         prompt_version="",
-        config={"plans": source, "plans_sha256": plans_digest(plans), "planned_episodes": len(plans)},
+        config={
+            "agent": {"name": system_name, "model": model, "strategy": strategy, "version": version},
+            "plans": source,
+            "plans_sha256": plans_digest(plans),
+            "planned_episodes": len(plans),
+        },
         inputs=input_hashes(planner=False),
     )
     with run_lock(run_dir):
@@ -93,9 +110,8 @@ def score_plans(
                 for episode_id, plan in plans.items():
                     if episode_id in done:
                         continue
-                    instruction = by_id[episode_id]
-                    trace = run_plan(get_task(instruction.task_id), plan)
-                    writer.write(EpisodeRecord.from_trace(instruction, plan, trace))
+                    record, _ = play_plan(by_id[episode_id], plan)
+                    writer.write(record)
         except BaseException:
             set_status(run_dir, "incomplete")
             raise
@@ -104,9 +120,23 @@ def score_plans(
 
 
 def score_plan_file(
-    path: Path, run_dir: Path, system_name: str, strategy: str = "external", *, new_revision_ok: bool = False
+    path: Path,
+    run_dir: Path,
+    system_name: str,
+    strategy: str = "external",
+    *,
+    new_revision_ok: bool = False,
+    model: str = "",
+    version: str = "",
 ) -> int:
     """Execute every plan of `path` into `run_dir` (planner `external`); returns the number of episodes."""
     return score_plans(
-        read_plan_file(path), run_dir, system_name, strategy, source=path.name, new_revision_ok=new_revision_ok
+        read_plan_file(path),
+        run_dir,
+        system_name,
+        strategy,
+        source=path.name,
+        new_revision_ok=new_revision_ok,
+        model=model,
+        version=version,
     )
