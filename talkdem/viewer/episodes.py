@@ -1,6 +1,7 @@
-"""The episodes of run directories as the viewer and the error sample see them: each stored record with its
-plan re-executed in the simulator (the outcome, hazards, plan length and automatic error type the report
-computes) and the dataset's clean instruction of its task.
+"""The episodes of run directories as the viewer and the error sample see them: each stored record with the
+outcome, hazards, plan length and automatic error type the report computes (read from its stored trace, as
+the report does; a record stored without a trace is executed in the simulator) and the dataset's clean
+instruction of its task.
 
 Records are kept without the final state (the viewer never shows it, and 10,000 of them would not fit in
 memory comfortably); identical plans of one task are executed once (the baseline's level-3 episodes are
@@ -16,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from talkdem.metrics.episodes import ScoringInputError, plan_length
+from talkdem.metrics.episodes import EpisodeResult, ScoringInputError, plan_length
 from talkdem.metrics.errors import ErrorClassification, classify_error
 from talkdem.runs import EpisodeRecord, RunHeader, read_episodes, read_header
 from talkdem.schema import CLEAN, LEVELS, PATTERN_CONFIGS
@@ -84,7 +85,8 @@ class _Executed:
 
 
 def load_runs(run_dirs: Sequence[Path]) -> list[ViewedRun]:
-    """Read, check and re-execute every episode of `run_dirs` (labels: `talkdem.report.runs.run_labels`)."""
+    """Read and check every episode of `run_dirs`, executing only those stored without a trace (labels:
+    `talkdem.report.runs.run_labels`)."""
     from talkdem.instructions import load_instructions
     from talkdem.report.runs import run_labels
     from talkdem.tasks import get_task
@@ -111,7 +113,18 @@ def load_runs(run_dirs: Sequence[Path]) -> list[ViewedRun]:
         for record in records:
             key = (record.task_id, record.plan, steps)
             task = get_task(record.task_id)
-            if key not in executed:
+            if "steps" in record.trace:
+                # A stored trace is the outcome (as in the report): read, not executed again.
+                stored_result = EpisodeResult.from_record(record)
+                assert stored_result.trace is not None
+                executed[key] = _Executed(
+                    stored_result.success,
+                    stored_result.hazards,
+                    stored_result.plan_length,
+                    classify_error(task, stored_result.trace),
+                    {k: record.trace[k] for k in _SHOWN_TRACE if k in record.trace},
+                )
+            elif key not in executed:
                 trace = run_plan(task, record.plan, max_steps=steps)
                 executed[key] = _Executed(
                     trace.success,
