@@ -115,16 +115,20 @@ def test_inspect_eval_on_a_local_model_imports_into_a_run_report_accepts(
     llama_server: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     monkeypatch.setenv("NO_PROXY", "127.0.0.1,localhost")
-    command = [sys.executable, "-m", "inspect_ai", "eval", str(Path(talkdem.__code__.co_filename))]
-    command += ["-T", "conditions=intrusion:3", "-T", "limit=1", "-T", "max_steps=4"]
+    import talkdem.evals.inspect_task as task_module
+
+    task_file = Path(task_module.__file__).resolve()
+    root = task_file.parents[2]  # inspect takes the task file relative to where it runs
+    command = [sys.executable, "-m", "inspect_ai", "eval", task_file.relative_to(root).as_posix()]
+    command += ["-T", "conditions=clean,intrusion:3", "-T", "limit=1", "-T", "max_steps=3"]  # report needs clean twins
     command += ["--model", "llama-cpp-python/smollm2"]
     command += ["--model-base-url", llama_server, "--log-dir", str(tmp_path / "logs"), "--display", "none"]
     command += ["--max-tokens", "48", "--temperature", "0"]
-    done = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600, cwd=root)
     assert done.returncode == 0, done.stderr[-3000:]
     (log_file,) = (tmp_path / "logs").glob("*.eval")
     assert main(["import-inspect", str(log_file), "--out", str(tmp_path / "run")]) == 0
-    (record,) = read_episodes(tmp_path / "run")
-    assert record.episode_id == select("intrusion:3", limit=1)[0].id
-    assert 1 <= len(record.plan) <= 4
+    records = read_episodes(tmp_path / "run")
+    assert [r.episode_id for r in records] == [i.id for i in select("clean,intrusion:3", limit=1)]
+    assert all(1 <= len(r.plan) <= 3 for r in records)
     assert main(["report", str(tmp_path / "run"), "--out", str(tmp_path / "report"), "--no-plots"]) == 0
