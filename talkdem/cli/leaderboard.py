@@ -27,6 +27,11 @@ def register(subparsers: Any) -> None:
     parser.set_defaults(handler=run)
 
 
+def _percent(value: float | None) -> str:
+    """A rate as the page shows it (percent, one decimal; `–` where undefined), not the stored fraction."""
+    return "–" if value is None else f"{100 * value:.1f}%"
+
+
 def run(args: argparse.Namespace) -> int:
     from talkdem.leaderboard import (
         RANK_KEY,
@@ -46,7 +51,11 @@ def run(args: argparse.Namespace) -> int:
             raise FileNotFoundError(f"{args.from_results}: no such results folder")
         fresh = [results_record(r) for r in runs]
         ids = {r["run_id"] for r in fresh}
-        records = [r for r in read_results(args.from_results) if r["run_id"] not in ids] + fresh
+        found = read_results(args.from_results)
+        if not found:
+            # Most likely a wrong folder: a page built from nothing and exit 0 would look like a success.
+            raise FileNotFoundError(f"{args.from_results}: no results files (*.json) under this folder")
+        records = [r for r in found if r["run_id"] not in ids] + fresh
         written = write_space(records, args.out)
     else:
         written = write_leaderboard(runs, args.out)
@@ -61,8 +70,8 @@ def run(args: argparse.Namespace) -> int:
         for rank, record in group.ranked:
             main = record["results"]["talkdem"]
             print(
-                f"  {rank}. {record['config']['run_name']}: average SR {main['average_sr']}, "
-                f"average retention {main['average_retention']}, clean SR {main['clean_sr']}"
+                f"  {rank}. {record['config']['run_name']}: average SR {_percent(main['average_sr'])}, "
+                f"average retention {_percent(main['average_retention'])}, clean SR {_percent(main['clean_sr'])}"
             )
     for record in standings.reference:
         print(f"  reference plans (not ranked): {record['config']['run_name']}")
