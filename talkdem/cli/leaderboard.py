@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import non_negative_int
+from talkdem.cli.arguments import bootstrap_count
 
 __all__ = ["register"]
 
@@ -22,7 +22,10 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("--from-results", type=Path, metavar="DIR", help="also show the results files under DIR")
     parser.add_argument(
-        "--bootstrap", type=non_negative_int, default=1000, help="bootstrap resamples for intervals (0: none)"
+        "--bootstrap",
+        type=bootstrap_count,
+        default=1000,
+        help="bootstrap resamples for the 95%% intervals: 0 (no intervals) or at least 40 (default: %(default)s)",
     )
     parser.set_defaults(handler=run)
 

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import non_negative_int
+from talkdem.cli.arguments import bootstrap_count
 
 __all__ = ["register"]
 
@@ -24,7 +24,10 @@ def register(subparsers: Any) -> None:
         help="strategy the retention tests compare with (a strategy name or label, e.g. care or CARE)",
     )
     parser.add_argument(
-        "--bootstrap", type=non_negative_int, default=1000, help="bootstrap resamples for intervals (0: none)"
+        "--bootstrap",
+        type=bootstrap_count,
+        default=1000,
+        help="bootstrap resamples for the 95%% intervals: 0 (no intervals) or at least 40 (default: %(default)s)",
     )
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
     parser.set_defaults(handler=run)
