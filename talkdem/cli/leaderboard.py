@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import bootstrap_count
+from talkdem.cli.arguments import bootstrap_count, folder_path
 
 __all__ = ["register"]
 
@@ -18,7 +18,10 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("run_dirs", nargs="*", type=Path, metavar="RUN_DIR", help="run directories to score")
     parser.add_argument(
-        "--out", type=Path, default=Path("talkdem_leaderboard"), help="Space folder to write (default: %(default)s)"
+        "--out",
+        type=folder_path,
+        default=Path("talkdem_leaderboard"),
+        help="Space folder to write (default: %(default)s)",
     )
     parser.add_argument("--from-results", type=Path, metavar="DIR", help="also show the results files under DIR")
     parser.add_argument(

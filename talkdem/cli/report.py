@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import bootstrap_count
+from talkdem.cli.arguments import bootstrap_count, folder_path
 
 __all__ = ["register"]
 
@@ -16,7 +16,9 @@ def register(subparsers: Any) -> None:
         "report", help="score run directories: paper tables (md/csv/json), plots and one HTML page"
     )
     parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="run directories to score")
-    parser.add_argument("--out", type=Path, default=Path("talkdem_report"), help="output folder (default: %(default)s)")
+    parser.add_argument(
+        "--out", type=folder_path, default=Path("talkdem_report"), help="output folder (default: %(default)s)"
+    )
     parser.add_argument(
         "--reference-strategy",
         default="CARE",

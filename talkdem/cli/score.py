@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from talkdem.cli.arguments import folder_path
+
 __all__ = ["register"]
 
 
@@ -14,7 +16,7 @@ def register(subparsers: Any) -> None:
         "score", help='execute external plans (JSONL: {"episode_id", "plan"}) into a run directory'
     )
     parser.add_argument("plans", type=Path, help="JSONL file, one episode per line")
-    parser.add_argument("--out", type=Path, required=True, help="run directory to create")
+    parser.add_argument("--out", type=folder_path, required=True, help="run directory to create")
     parser.add_argument("--name", default="external", help="name of the system that wrote the plans")
     parser.set_defaults(handler=run)
 
