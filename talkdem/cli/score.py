@@ -16,14 +16,22 @@ def register(subparsers: Any) -> None:
         "score", help='execute external plans (JSONL: {"episode_id", "plan"}) into a run directory'
     )
     parser.add_argument("plans", type=Path, help="JSONL file, one episode per line")
-    parser.add_argument("--out", type=folder_path, required=True, help="run directory to create")
+    parser.add_argument(
+        "--out",
+        type=folder_path,
+        required=True,
+        help="run directory to create, or a run of the same --name to add the plans to",
+    )
     parser.add_argument("--name", default="external", help="name of the system that wrote the plans")
     parser.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from talkdem.runs.external import score_plan_file
+    from talkdem.runs.store import HEADER_FILE, read_episodes
 
+    before = len(read_episodes(args.out)) if (args.out / HEADER_FILE).is_file() else 0
     count = score_plan_file(args.plans, args.out, args.name)
-    print(f"{args.out}: {count} episodes executed and scored")
+    kept = f", {before} already in the run" if before else ""
+    print(f"{args.out}: {count - before} episodes executed and scored{kept} ({count} in all)")
     return 0

@@ -9,15 +9,17 @@ from pathlib import Path
 from talkdem.instructions import Instruction, load_instructions
 from talkdem.plans import Plan, check_plan
 from talkdem.runs.records import EpisodeRecord, RunHeader
-from talkdem.runs.store import EpisodeWriter, open_run, run_lock
+from talkdem.runs.store import HEADER_FILE, EpisodeWriter, open_run, read_episodes, read_header, run_lock
 from talkdem.serialization import parse_json
 from talkdem.sim import run_plan
 from talkdem.tasks import get_task
 
 __all__ = ["EXTERNAL_RESUME_KEYS", "plans_digest", "read_plan_file", "score_plan_file", "score_plans"]
 
-# A scored run resumes only with the same plans from the same system: the digest covers every plan.
-EXTERNAL_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash", "config.plans_sha256")
+# A scored run is resumed or extended by the same system on the same dataset. Which plans it holds is
+# checked per episode instead (an episode already in the run must come again with the same plan), so a
+# second plan file can add episodes; the header's `plans_sha256` then covers every plan in the run.
+EXTERNAL_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash")
 
 
 def read_plan_file(path: Path) -> dict[str, Plan]:
@@ -60,21 +62,41 @@ def plans_digest(plans: Mapping[str, Plan]) -> str:
 def score_plans(
     plans: Mapping[str, Plan], run_dir: Path, system_name: str, strategy: str = "external", source: str = ""
 ) -> int:
-    """Execute every plan into `run_dir` (planner `external`), resuming a run killed part-way with the
-    same plans; returns the number of episodes in the run. `source` names where the plans came from
-    (a file name, never a machine path: the header is published)."""
+    """Execute every plan into `run_dir` (planner `external`); returns the number of episodes in the run.
+
+    An existing run of the same system is resumed (a run killed part-way) or extended (a second plan file
+    with more episodes): episodes already there are kept, and must come with the plan they were scored
+    with, new ones are executed and appended. `source` names where the plans came from (a file name, never
+    a machine path: the header is published)."""
     by_id: dict[str, Instruction] = {i.id: i for i in load_instructions()}
     unknown = [episode_id for episode_id in plans if episode_id not in by_id]
     if unknown:
         raise ValueError(f"unknown episode ids: {', '.join(unknown[:5])}")
-    header = RunHeader.new(
-        model={"backend": "external", "name": system_name, "revision": ""},
-        planner="external",
-        strategy=strategy,
-        prompt_version="",
-        config={"plans": source, "plans_sha256": plans_digest(plans), "planned_episodes": len(plans)},
-    )
     with run_lock(run_dir):
+        stored: dict[str, Plan] = {}
+        sources = [source] if source else []
+        if (run_dir / HEADER_FILE).exists():
+            stored = {episode.episode_id: episode.plan for episode in read_episodes(run_dir, repair=True)}
+            earlier = read_header(run_dir).config.get("plans", "")
+            sources = [*str(earlier).split(", "), *sources] if earlier else sources
+        changed = [i for i, plan in plans.items() if i in stored and tuple(stored[i]) != tuple(plan)]
+        if changed:
+            raise ValueError(
+                f"{run_dir}: {len(changed)} episode(s) already in the run with another plan (its plans_sha256 "
+                f"covers each plan once; score changed plans into a new --out): {', '.join(changed[:3])}"
+            )
+        everything = {**stored, **plans}
+        header = RunHeader.new(
+            model={"backend": "external", "name": system_name, "revision": ""},
+            planner="external",
+            strategy=strategy,
+            prompt_version="",
+            config={
+                "plans": ", ".join(dict.fromkeys(sources)),
+                "plans_sha256": plans_digest(everything),
+                "planned_episodes": len(everything),
+            },
+        )
         done = {episode.episode_id for episode in open_run(run_dir, header, EXTERNAL_RESUME_KEYS)}
         with EpisodeWriter(run_dir) as writer:
             for episode_id, plan in plans.items():
@@ -83,7 +105,7 @@ def score_plans(
                 instruction = by_id[episode_id]
                 trace = run_plan(get_task(instruction.task_id), plan)
                 writer.write(EpisodeRecord.from_trace(instruction, plan, trace))
-    return len(plans)
+    return len(everything)
 
 
 def score_plan_file(path: Path, run_dir: Path, system_name: str, strategy: str = "external") -> int:
