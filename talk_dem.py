@@ -81,7 +81,9 @@ def load(
 
     `path` is a dataset folder or a Hub repository id (`ORG/talk-dem`; read from the Hugging Face cache
     when offline). The default is the dataset this package carries: `data/` of a checkout, the copy in
-    the installed wheel, or `$TALKDEM_DATA_DIR`. Other keyword arguments go to `datasets.load_dataset`.
+    the installed wheel, or `$TALKDEM_DATA_DIR`. A local folder is cached by its files' content (under
+    `cache_dir`, default the Hugging Face datasets cache, in `talkdem-local/<content hash>/`), so an edited
+    or another folder is never answered with stale rows. Other keyword arguments go to `datasets.load_dataset`.
     The clean control is level 0 in episode ids (`<task>:clean:0`), so `load("clean", 0)` is accepted.
     """
     if pattern in PATTERNS:
@@ -99,6 +101,24 @@ def load(
     source = path or _default_folder()
     if path and not Path(path).exists() and path.count("/") != 1:
         raise ValueError(f"'{path}' is neither a dataset folder nor a Hub repository id (ORG/NAME)")
+    if Path(source).is_dir():
+        # `datasets` keys a local folder's cache by its name and the declared patterns, not by the files'
+        # bytes: every folder called `data`, and every edit of one, would be answered with the rows cached
+        # first. A cache folder per content makes what is loaded what is on disk.
+        base = kwargs.pop("cache_dir", None) or datasets.config.HF_DATASETS_CACHE
+        kwargs["cache_dir"] = str(Path(base) / "talkdem-local" / _content_key(Path(source)))
     result = datasets.load_dataset(source, pattern, split=split or chosen, **kwargs)
     assert isinstance(result, datasets.Dataset)
     return result
+
+
+def _content_key(folder: Path) -> str:
+    """sha256 (first 24 digits) over the folder's dataset card and Parquet files, names and bytes."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    files = [folder / "README.md", *sorted(folder.rglob("*.parquet"))]
+    for path in files:
+        if path.is_file():
+            digest.update(path.relative_to(folder).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()[:24]

@@ -5,11 +5,15 @@ regenerated up to two more times when it fails (paper, appendix "Rule-Constraine
 units are appended to a JSONL checkpoint (one line each, flushed), so a build killed at any
 point, `kill -9` included, resumes where it stopped; every request has its own seed, so the resumed result
 is byte-identical to an uninterrupted one. A truncated last line (a kill mid-write) is dropped with a warning.
+The checkpoint's first line holds the build's settings (generator, prompt set, seed, `--limit`, the tasks'
+sha256): only that build resumes from it and deletes it when done; any other build given the same file is
+refused before anything in it is cut, reused or deleted.
 """
 
 from __future__ import annotations
 
 import fcntl
+import hashlib
 import json
 import os
 import re
@@ -29,6 +33,7 @@ from builders.verification import verify
 from talkdem.paths import data_dir, repo_root
 from talkdem.schema import CLEAN, LEVELS, MEMORY_BANK, PATTERN_CONFIGS, TASKS, data_files, features, split_name
 from talkdem.seeds import PddlParams
+from talkdem.serialization import to_jsonable
 from talkdem.tasks import Task, TaskSet, load_tasks
 
 __all__ = [
@@ -36,9 +41,11 @@ __all__ = [
     "BuildResult",
     "CheckpointWarning",
     "build",
+    "checkpoint_header",
     "dataset_files",
     "default_checkpoint",
     "read_checkpoint",
+    "tasks_digest",
     "verification_stats",
 ]
 
@@ -172,18 +179,40 @@ def build_unit(
 
 
 # --- checkpoint -------------------------------------------------------------------------------------------------
-def _header(generator: Generator, seed: int) -> dict[str, Any]:
+def tasks_digest(benchmark: Sequence[Task], memory: Sequence[Task]) -> str:
+    """sha256 over the tasks a build generates from (each task's stored record, in build order)."""
+    digest = hashlib.sha256()
+    for task in (*benchmark, *memory):
+        digest.update(json.dumps(to_jsonable(task), ensure_ascii=False, sort_keys=True).encode() + b"\n")
+    return digest.hexdigest()
+
+
+def checkpoint_header(
+    generator: Generator, seed: int, limit: int | None, benchmark: Sequence[Task], memory: Sequence[Task]
+) -> dict[str, Any]:
+    """The settings of one build, the checkpoint's first line: a checkpoint is resumed only by the build
+    that wrote it. A `--limit` smoke build, another seed, generator, prompt set or task file is another
+    build (a smoke build that took a full build's checkpoint would reuse its units and then delete it)."""
     return {
         "checkpoint": CHECKPOINT_FORMAT,
         "generator": generator.name,
         "prompt_version": generator.prompt_version,
         "seed": seed,
+        "limit": limit,
+        "smoke": limit is not None,
+        "tasks_sha256": tasks_digest(benchmark, memory),
     }
+
+
+def _differences(found: dict[str, Any], wanted: dict[str, Any]) -> str:
+    keys = [k for k in wanted if found.get(k, "(not recorded)") != wanted[k]]
+    keys += [k for k in found if k not in wanted]
+    return ", ".join(f"{k} {found.get(k, '(not recorded)')!r} there, {wanted.get(k)!r} now" for k in keys)
 
 
 def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[str, Any]]]:
     """Finished units by key. A truncated last line is cut off (with a warning); a file that is not this
-    build's checkpoint is refused, never deleted (it may be another build's hours of LLM generation)."""
+    build's checkpoint is refused, never deleted nor cut (it may be another build's hours of LLM generation)."""
     if path.exists() and not path.is_file():
         raise ValueError(f"{path}: the checkpoint path is not a file")
     if not path.is_file() or path.stat().st_size == 0:
@@ -196,6 +225,12 @@ def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[s
         found_header = None
     if not isinstance(found_header, dict) or found_header.get("checkpoint") != CHECKPOINT_FORMAT:
         raise ValueError(f"{path}: exists and is not a TALK-Dem build checkpoint; refusing to overwrite it")
+    if first.endswith(b"\n") and found_header != header:
+        # Checked before anything is repaired: another build's checkpoint is left byte for byte as it is.
+        raise ValueError(
+            f"{path}: checkpoint of another build ({_differences(found_header, header)}); resume it with its "
+            "own settings, or give --checkpoint another file (nothing was changed)"
+        )
     raw = path.read_bytes()
     lines = raw.split(b"\n")
     complete, tail = lines[:-1], lines[-1]  # `tail` is b"" when the file ends with a newline
@@ -210,11 +245,6 @@ def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[s
             handle.truncate(len(raw) - len(tail))
     if not complete:
         return {}
-    if found_header != header:
-        raise ValueError(
-            f"{path}: checkpoint of another build ({found_header}, this build: {header}); delete it to start "
-            "afresh or give --checkpoint another file"
-        )
     units: dict[str, list[dict[str, Any]]] = {}
     for number, line in enumerate(complete[1:], start=2):
         try:
@@ -391,7 +421,7 @@ def build(
     check_output_folder(folder)
     path = checkpoint or default_checkpoint(gen.name, seed, limit)
     with _checkpoint_lock(path):
-        return _build_locked(gen, folder, benchmark, memory, path, seed, progress, throttle)
+        return _build_locked(gen, folder, benchmark, memory, path, seed, limit, progress, throttle)
 
 
 def _build_locked(
@@ -401,13 +431,14 @@ def _build_locked(
     memory: Sequence[Task],
     path: Path,
     seed: int,
+    limit: int | None,
     progress: bool,
     throttle: float,
 ) -> BuildResult:
     from tqdm import tqdm
 
     todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
-    header = _header(gen, seed)
+    header = checkpoint_header(gen, seed, limit, benchmark, memory)
     units = read_checkpoint(path, header)
     resumed = sum(1 for key, _ in todo if key in units)
     if path.stat().st_size == 0:  # the lock created it empty

@@ -23,12 +23,14 @@ from talkdem.cli import (
     push,
     report,
     run,
+    sample_errors,
     score,
     select,
     simulate,
     split,
     tasks,
     verify,
+    view,
 )
 
 __all__ = ["build_parser", "main"]
@@ -48,6 +50,8 @@ _COMMANDS = (
     merge,
     score,
     report,
+    view,
+    sample_errors,
     leaderboard,
     models,
 )

@@ -7,7 +7,7 @@ import argparse
 import re
 from pathlib import Path
 
-__all__ = ["bootstrap_count", "folder_path", "hub_repo_id", "non_negative_int", "positive_int"]
+__all__ = ["bootstrap_count", "folder_path", "hub_repo_id", "non_negative_int", "page_link", "positive_int"]
 
 # The Hub's rule for repository ids: ORG/NAME, letters, digits, '-', '_', '.', no leading/trailing '-'/'.'.
 _REPO_PART = r"[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?"
@@ -64,3 +64,23 @@ def hub_repo_id(text: str) -> str:
             f"'{text}' is not a Hub repository id (ORG/NAME: letters, digits, '-', '_', '.')"
         )
     return text
+
+
+_SCHEME = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*:")
+
+
+def page_link(text: str) -> str:
+    """A link a published page may carry: relative (`viewer/index.html`, `../viewer/`) or http(s); never an
+    absolute path of this machine (it would not resolve anywhere else and tells where files live)."""
+    value = text.strip()
+    if not value:
+        raise argparse.ArgumentTypeError("the link is empty")
+    if _SCHEME.match(value):  # also `C:\...`: a drive letter reads as a scheme
+        allowed = value.lower().startswith(("http://", "https://"))
+    else:
+        allowed = not value.startswith(("/", "~", "\\"))
+    if not allowed:
+        raise argparse.ArgumentTypeError(
+            f"'{text}' is not a relative or http(s) link (e.g. viewer/index.html, written by `talkdem view --out`)"
+        )
+    return value

@@ -40,6 +40,11 @@ def register(subparsers: Any) -> None:
         "--out", type=folder_path, default=Path("demo_output"), help="folder for runs, report, leaderboard"
     )
     parser.add_argument("--threads", type=positive_int, default=2)
+    parser.add_argument(
+        "--continue-on-new-revision",
+        action="store_true",
+        help="resume live runs of --out started on another code revision (refused otherwise; both are recorded)",
+    )
     parser.set_defaults(handler=run)
 
 
@@ -85,6 +90,8 @@ def run(args: argparse.Namespace) -> int:
             run_dir,
             SayCanConfig(),
             extra_config={"conditions": [str(c) for c in conditions], "tasks": args.tasks},
+            backend_args={"threads": args.threads},
+            new_revision_ok=args.continue_on_new_revision,
         )
         print(f"{strategy}: {summary.ran} run ({summary.successes} successful), {summary.skipped} resumed -> {run_dir}")
         run_dirs.append(run_dir)

@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import bootstrap_count, folder_path
+from talkdem.cli.arguments import bootstrap_count, folder_path, page_link
 
 __all__ = ["register"]
 
@@ -29,6 +29,9 @@ def register(subparsers: Any) -> None:
         type=bootstrap_count,
         default=1000,
         help="bootstrap resamples for the 95%% intervals: 0 (no intervals) or at least 40 (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--viewer", type=page_link, metavar="HREF", help="link the page to the episode viewer (`talkdem view`)"
     )
     parser.set_defaults(handler=run)
 
@@ -62,9 +65,9 @@ def run(args: argparse.Namespace) -> int:
             # Most likely a wrong folder: a page built from nothing and exit 0 would look like a success.
             raise FileNotFoundError(f"{args.from_results}: no results files (*.json) under this folder")
         records = [r for r in found if r["run_id"] not in ids] + fresh
-        written = write_space(records, args.out)
+        written = write_space(records, args.out, viewer=args.viewer)
     else:
-        written = write_leaderboard(runs, args.out)
+        written = write_leaderboard(runs, args.out, viewer=args.viewer)
     # What the page shows: the runs given plus results already in the folder.
     standings = rank_records(json.loads((args.out / "leaderboard.json").read_text(encoding="utf-8")))
     print(f"rank key: {RANK_KEY}")

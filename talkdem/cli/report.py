@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import bootstrap_count, folder_path
+from talkdem.cli.arguments import bootstrap_count, folder_path, page_link
 
 __all__ = ["register"]
 
@@ -32,6 +32,16 @@ def register(subparsers: Any) -> None:
         help="bootstrap resamples for the 95%% intervals: 0 (no intervals) or at least 40 (default: %(default)s)",
     )
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
+    parser.add_argument(
+        "--labels",
+        type=Path,
+        metavar="FILE",
+        help="error types labelled by people (exported from `talkdem view`): their error-by-pattern table and "
+        "the agreement with the automatic classifier (Cohen's kappa, confusion matrix)",
+    )
+    parser.add_argument(
+        "--viewer", type=page_link, metavar="HREF", help="link the report to the episode viewer (`talkdem view`)"
+    )
     parser.set_defaults(handler=run)
 
 
@@ -47,8 +57,22 @@ def _strategy_label(text: str) -> str:
 def run(args: argparse.Namespace) -> int:
     from talkdem.report import score_runs, write_report
 
+    if args.labels is not None and not args.labels.is_file():  # before minutes of scoring, not after
+        raise FileNotFoundError(f"{args.labels}: no such labels file (export one from `talkdem view`)")
     runs = score_runs(args.run_dirs, bootstrap=args.bootstrap)
-    files = write_report(runs, args.out, reference_strategy=args.reference_strategy, plots=not args.no_plots)
+    extra = []
+    if args.labels is not None:
+        from talkdem.viewer.labels import label_tables, read_labels
+
+        extra = label_tables(read_labels(args.labels, runs), args.labels.name)
+    files = write_report(
+        runs,
+        args.out,
+        reference_strategy=args.reference_strategy,
+        plots=not args.no_plots,
+        extra_tables=extra,
+        viewer=args.viewer,
+    )
     for table in files.tables:
         print(table.to_markdown())
     print(f"report: {files.markdown}")

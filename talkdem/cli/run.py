@@ -92,6 +92,11 @@ def register(subparsers: Any) -> None:
         metavar="FILE",
         help="SQLite result cache keyed by model identity: a rerun or another strategy reuses computed scores",
     )
+    parser.add_argument(
+        "--continue-on-new-revision",
+        action="store_true",
+        help="resume a run started on another code revision (refused otherwise); the header records both",
+    )
     parser.add_argument("--no-progress", action="store_true")
     parser.set_defaults(handler=run)
 
@@ -195,6 +200,8 @@ def run(args: argparse.Namespace) -> int:
         extra_config=extra,
         progress=not args.no_progress,
         clients=clients,
+        backend_args=_backend_args(args, options),
+        new_revision_ok=args.continue_on_new_revision,
     )
     print(
         f"{summary.run_dir}: {summary.ran} episodes run, {summary.skipped} resumed, "
@@ -207,3 +214,21 @@ def _local_tokenizer(model: str) -> bool:
     from talkdem.llm.models import get_model
 
     return get_model(model) is not None or Path(model).expanduser().exists()
+
+
+def _backend_args(args: argparse.Namespace, options: dict[str, Any]) -> dict[str, str | int | float | bool]:
+    """How the model was reached, for the header: plain values only, and a tokenizer given as a file or
+    folder by its name alone (a published header names no machine path)."""
+    recorded: dict[str, str | int | float | bool] = {}
+    for name, value in options.items():
+        if name == "tokenizer" and isinstance(value, str):
+            recorded[name] = Path(value).name if Path(value).expanduser().exists() else value
+        elif name == "add_bos":
+            recorded["bos"] = args.bos
+        elif isinstance(value, str | int | float | bool):
+            recorded[name] = value
+    if args.concurrency > 1:
+        recorded["concurrency"] = args.concurrency
+    if args.cache is not None:
+        recorded["cache"] = True  # the scores are the model's either way; the file is named nowhere
+    return recorded

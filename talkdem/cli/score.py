@@ -23,6 +23,11 @@ def register(subparsers: Any) -> None:
         help="run directory to create, or a run of the same --name to add the plans to",
     )
     parser.add_argument("--name", default="external", help="name of the system that wrote the plans")
+    parser.add_argument(
+        "--continue-on-new-revision",
+        action="store_true",
+        help="resume a run started on another code revision (refused otherwise); the header records both",
+    )
     parser.set_defaults(handler=run)
 
 
@@ -31,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     from talkdem.runs.store import HEADER_FILE, read_episodes
 
     before = len(read_episodes(args.out)) if (args.out / HEADER_FILE).is_file() else 0
-    count = score_plan_file(args.plans, args.out, args.name)
+    count = score_plan_file(args.plans, args.out, args.name, new_revision_ok=args.continue_on_new_revision)
     kept = f", {before} already in the run" if before else ""
     print(f"{args.out}: {count - before} episodes executed and scored{kept} ({count} in all)")
     return 0

@@ -13,7 +13,7 @@ from typing import Any
 from talkdem import __version__
 from talkdem.leaderboard.ranking import RANK_KEY, ComparableGroup, rank_records
 from talkdem.report.coverage import Coverage
-from talkdem.report.html import PAGE_STYLE
+from talkdem.report.html import PAGE_STYLE, viewer_link
 from talkdem.report.runs import strategy_label
 from talkdem.report.tables import PATTERN_CODES, PATTERN_LABELS
 from talkdem.schema import PATTERN_CONFIGS
@@ -207,8 +207,11 @@ def _inline_code(text: str) -> str:
     return "".join(f"<code>{p}</code>" if i % 2 else p for i, p in enumerate(parts))
 
 
-def render_html(records: Sequence[dict[str, Any]], title: str = "TALK-Dem leaderboard") -> str:
-    """The page: one ranked table per comparable group, the reference plans apart, how to submit."""
+def render_html(
+    records: Sequence[dict[str, Any]], title: str = "TALK-Dem leaderboard", viewer: str | None = None
+) -> str:
+    """The page: one ranked table per comparable group, the reference plans apart, how to submit;
+    `viewer`: a link to the episode viewer of these runs (`talkdem view`)."""
     standings = rank_records(records)
     legend = "; ".join(f"{PATTERN_CODES[p]}: {PATTERN_LABELS[p]}" for p in PATTERN_CONFIGS)
     parts = [
@@ -221,6 +224,8 @@ def render_html(records: Sequence[dict[str, Any]], title: str = "TALK-Dem leader
         f"95% bootstrap interval over tasks, in whole percents (none when the run was scored without "
         f"resampling). {legend}.</p>",
     ]
+    if viewer:
+        parts.append(viewer_link(viewer))
     if len(standings.groups) > 1:
         parts.append(
             f'<p class="warn" id="not-comparable">These runs fall into {len(standings.groups)} groups that covered '

@@ -153,8 +153,9 @@ Rebuild the leaderboard page with `talkdem leaderboard --from-results . --out bo
 """
 
 
-def write_space(records: Sequence[dict[str, Any]], out: Path) -> list[Path]:
-    """Write the Space folder for these records (results files included); returns the files written."""
+def write_space(records: Sequence[dict[str, Any]], out: Path, viewer: str | None = None) -> list[Path]:
+    """Write the Space folder for these records (results files included); returns the files written.
+    `viewer`: a link to the episode viewer (`talkdem view`) for the page."""
     results = out / "results"
     results.mkdir(parents=True, exist_ok=True)
     written = []
@@ -166,11 +167,11 @@ def write_space(records: Sequence[dict[str, Any]], out: Path) -> list[Path]:
     (results / "README.md").write_text(_RESULTS_CARD.format(schema=RESULTS_SCHEMA), encoding="utf-8")
     (out / "leaderboard.json").write_text(json.dumps(list(records), indent=2, ensure_ascii=False) + "\n", "utf-8")
     (out / "README.md").write_text(_space_readme(records), encoding="utf-8")
-    (out / "index.html").write_text(render_html(records), encoding="utf-8")
+    (out / "index.html").write_text(render_html(records, viewer=viewer), encoding="utf-8")
     return [*written, results / "README.md", out / "leaderboard.json", out / "README.md", out / "index.html"]
 
 
-def write_leaderboard(runs: Sequence[ScoredRun], out: Path) -> list[Path]:
+def write_leaderboard(runs: Sequence[ScoredRun], out: Path, viewer: str | None = None) -> list[Path]:
     """The Space folder for `runs` plus the results already in `out/results`; returns the files written
     (`out/index.html` last but one, `out/README.md`... see `write_space`)."""
     fresh = [results_record(run) for run in runs]
@@ -178,4 +179,4 @@ def write_leaderboard(runs: Sequence[ScoredRun], out: Path) -> list[Path]:
     if (out / "results").is_dir():
         new_ids = {r["run_id"] for r in fresh}
         kept = [r for r in read_results(out / "results") if r["run_id"] not in new_ids]
-    return write_space([*kept, *fresh], out)
+    return write_space([*kept, *fresh], out, viewer=viewer)

@@ -219,10 +219,28 @@ def results_from_run(run_dir: Path, *, run: str = "", max_steps: int | None = No
         if trace.success != record.success:
             changed.append(record.episode_id)
         results.append(_result(record.episode_id, record.task_id, condition, record.plan, trace, run))
-    if changed:
-        warnings.warn(
-            f"{run_dir}: {len(changed)} stored outcomes differ from re-execution (first: {changed[0]}); "
-            "using the simulator's",
-            stacklevel=2,
+    moved = _changed_inputs(header.inputs)
+    if changed or moved:
+        outcomes = (
+            f"{len(changed)} stored outcomes differ from re-execution (first: {changed[0]}); using the simulator's"
+            if changed
+            else "the stored outcomes agree with re-execution"
         )
+        because = f"; input files changed since the run: {', '.join(moved)}" if moved else ""
+        warnings.warn(f"{run_dir}: {outcomes}{because}", stacklevel=2)
     return results
+
+
+def _changed_inputs(recorded: dict[str, str]) -> list[str]:
+    """`NAME (sha256 A... -> B...)` for each input file the run recorded that differs on disk now (runs
+    written before inputs were hashed record none)."""
+    if not recorded:
+        return []
+    from talkdem.runs.spec import input_hashes
+
+    now = input_hashes()
+    return [
+        f"{name} (sha256 {digest[:12]}... -> {now[name][:12]}...)"
+        for name, digest in sorted(recorded.items())
+        if name in now and now[name] != digest
+    ]

@@ -13,7 +13,7 @@ from talkdem.report.public import public_model
 from talkdem.report.runs import ScoredRun
 from talkdem.report.tables import Table
 
-__all__ = ["PAGE_STYLE", "render_report_html", "table_html"]
+__all__ = ["PAGE_STYLE", "render_report_html", "table_html", "viewer_link"]
 
 PAGE_STYLE = """
 body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:2rem auto;max-width:1500px;
@@ -132,14 +132,28 @@ def _figure(plot: PlotFile) -> str:
     )
 
 
+def viewer_link(href: str) -> str:
+    """A paragraph linking to the episode viewer (`talkdem view`); `href` is escaped."""
+    return (
+        f'<p id="viewer-link"><a href="{html.escape(href, quote=True)}">Browse every episode</a> in the viewer: '
+        "instructions, plans step by step with the simulator's feedback, and the error labelling.</p>"
+    )
+
+
 def render_report_html(
-    runs: Sequence[ScoredRun], tables: Sequence[Table], plots: Sequence[PlotFile], title: str = "TALK-Dem report"
+    runs: Sequence[ScoredRun],
+    tables: Sequence[Table],
+    plots: Sequence[PlotFile],
+    title: str = "TALK-Dem report",
+    viewer: str | None = None,
 ) -> str:
-    """The report page: runs (with coverage and provenance), every table, every figure."""
+    """The report page: runs (with coverage and provenance), every table, every figure; `viewer`: a link
+    to the episode viewer (`talkdem view`)."""
     sections = [
         f"<h1>{html.escape(title)}</h1>",
         "<p>Rates in %. Runs over different episodes (see Coverage) are not directly comparable; the reference "
         "plans are an upper bound, not a planner.</p>",
+        *([viewer_link(viewer)] if viewer else []),
         "<h2>Runs</h2>",
         _runs_table(runs),
         "<h2>Tables</h2>",

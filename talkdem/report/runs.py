@@ -14,7 +14,15 @@ from talkdem.report.coverage import Coverage, coverage_of
 from talkdem.report.public import public_model, unique_stems
 from talkdem.runs import RunHeader, read_header
 
-__all__ = ["REFERENCE_STRATEGY", "STRATEGY_LABELS", "ScoredRun", "score_runs", "slug", "strategy_label"]
+__all__ = [
+    "REFERENCE_STRATEGY",
+    "STRATEGY_LABELS",
+    "ScoredRun",
+    "run_labels",
+    "score_runs",
+    "slug",
+    "strategy_label",
+]
 
 STRATEGY_LABELS = STRATEGIES.labels()
 """Registered strategy name -> the label tables and plots show."""
@@ -72,13 +80,21 @@ def score_runs(run_dirs: Sequence[Path], *, bootstrap: int = 1000, seed: int = B
     if not run_dirs:
         raise ValueError("no run directories given")
     runs = []
-    used: dict[str, int] = {}
-    for run_dir in run_dirs:
-        header = read_header(run_dir)
-        # Labels are published (tables, legends, file names): a model file is named by its file name.
-        base = f"{public_model(header.model)['name'] or 'unknown model'} / {strategy_label(header.strategy)}"
-        used[base] = used.get(base, 0) + 1
-        label = base if used[base] == 1 else f"{base} #{used[base]}"
+    headers = [read_header(run_dir) for run_dir in run_dirs]
+    for run_dir, header, label in zip(run_dirs, headers, run_labels(headers), strict=True):
         scores = compute_scores(results_from_run(run_dir, run=label), bootstrap=bootstrap, seed=seed)
         runs.append(ScoredRun(run_dir, header, label, scores))
     return runs
+
+
+def run_labels(headers: Sequence[RunHeader]) -> list[str]:
+    """`model / strategy` per run, made unique with a `#n` suffix in the order given (the report, the viewer
+    and the error sample name runs alike, so a labels file made in the viewer matches the report's runs)."""
+    labels = []
+    used: dict[str, int] = {}
+    for header in headers:
+        # Labels are published (tables, legends, file names): a model file is named by its file name.
+        base = f"{public_model(header.model)['name'] or 'unknown model'} / {strategy_label(header.strategy)}"
+        used[base] = used.get(base, 0) + 1
+        labels.append(base if used[base] == 1 else f"{base} #{used[base]}")
+    return labels

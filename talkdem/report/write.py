@@ -40,11 +40,18 @@ def _runs_markdown(runs: Sequence[ScoredRun]) -> str:
 
 
 def write_report(
-    runs: Sequence[ScoredRun], out: Path, *, reference_strategy: str = "CARE", plots: bool = True
+    runs: Sequence[ScoredRun],
+    out: Path,
+    *,
+    reference_strategy: str = "CARE",
+    plots: bool = True,
+    extra_tables: Sequence[Table] = (),
+    viewer: str | None = None,
 ) -> ReportFiles:
     """Write `out/report.md`, `out/report.html` (self-contained, figures embedded),
-    `out/tables/<name>.{md,csv,json}`, `out/scores/<run>.json` and `out/plots/*.png`."""
-    files = ReportFiles(out, all_tables(runs, reference_strategy))
+    `out/tables/<name>.{md,csv,json}`, `out/scores/<run>.json` and `out/plots/*.png`. `extra_tables` follow
+    the paper's (the human error labels); `viewer` links both pages to the episode viewer."""
+    files = ReportFiles(out, [*all_tables(runs, reference_strategy), *extra_tables])
     (out / "tables").mkdir(parents=True, exist_ok=True)
     (out / "scores").mkdir(parents=True, exist_ok=True)
     for table in files.tables:
@@ -78,13 +85,14 @@ def write_report(
     )
     figures_md = f"\n## Figures\n\n{links}" if figures else ""
     files.markdown = out / "report.md"
+    browse = f" Every episode: [the viewer]({viewer.replace(' ', '%20').replace(')', '%29')})." if viewer else ""
     files.markdown.write_text(
         f"# TALK-Dem report\n\nRuns:\n{_runs_markdown(runs)}\n\nThe same report with the figures inline: "
-        f"[report.html](report.html).\n\n{body}{figures_md}",
+        f"[report.html](report.html).{browse}\n\n{body}{figures_md}",
         encoding="utf-8",
     )
     from talkdem.report.html import render_report_html
 
     files.html = out / "report.html"
-    files.html.write_text(render_report_html(runs, files.tables, figures), encoding="utf-8")
+    files.html.write_text(render_report_html(runs, files.tables, figures, viewer=viewer), encoding="utf-8")
     return files

@@ -9,17 +9,27 @@ from pathlib import Path
 from talkdem.instructions import Instruction, load_instructions
 from talkdem.plans import Plan, check_plan
 from talkdem.runs.records import EpisodeRecord, RunHeader
-from talkdem.runs.store import HEADER_FILE, EpisodeWriter, open_run, read_episodes, read_header, run_lock
+from talkdem.runs.store import (
+    HEADER_FILE,
+    EpisodeWriter,
+    finish_status,
+    open_run,
+    read_episodes,
+    read_header,
+    run_lock,
+    set_status,
+)
 from talkdem.serialization import parse_json
 from talkdem.sim import run_plan
 from talkdem.tasks import get_task
 
 __all__ = ["EXTERNAL_RESUME_KEYS", "plans_digest", "read_plan_file", "score_plan_file", "score_plans"]
 
-# A scored run is resumed or extended by the same system on the same dataset. Which plans it holds is
-# checked per episode instead (an episode already in the run must come again with the same plan), so a
-# second plan file can add episodes; the header's `plans_sha256` then covers every plan in the run.
-EXTERNAL_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash")
+# A scored run is resumed or extended by the same system on the same dataset and input files (the tasks the
+# plans execute on, the instructions). Which plans it holds is checked per episode instead of by one digest
+# (an episode already in the run must come again with the same plan), so a second plan file can add
+# episodes; the header's `plans_sha256` then covers every plan in the run.
+EXTERNAL_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash", "inputs")
 
 
 def read_plan_file(path: Path) -> dict[str, Plan]:
@@ -60,14 +70,23 @@ def plans_digest(plans: Mapping[str, Plan]) -> str:
 
 
 def score_plans(
-    plans: Mapping[str, Plan], run_dir: Path, system_name: str, strategy: str = "external", source: str = ""
+    plans: Mapping[str, Plan],
+    run_dir: Path,
+    system_name: str,
+    strategy: str = "external",
+    source: str = "",
+    *,
+    new_revision_ok: bool = False,
 ) -> int:
     """Execute every plan into `run_dir` (planner `external`); returns the number of episodes in the run.
 
     An existing run of the same system is resumed (a run killed part-way) or extended (a second plan file
     with more episodes): episodes already there are kept, and must come with the plan they were scored
     with, new ones are executed and appended. `source` names where the plans came from (a file name, never
-    a machine path: the header is published)."""
+    a machine path: the header is published). A run started on another code revision is resumed only with
+    `new_revision_ok` (both revisions are recorded)."""
+    from talkdem.runs.spec import input_hashes
+
     by_id: dict[str, Instruction] = {i.id: i for i in load_instructions()}
     unknown = [episode_id for episode_id in plans if episode_id not in by_id]
     if unknown:
@@ -96,18 +115,29 @@ def score_plans(
                 "plans_sha256": plans_digest(everything),
                 "planned_episodes": len(everything),
             },
+            inputs=input_hashes(planner=False),
         )
-        done = {episode.episode_id for episode in open_run(run_dir, header, EXTERNAL_RESUME_KEYS)}
-        with EpisodeWriter(run_dir) as writer:
-            for episode_id, plan in plans.items():
-                if episode_id in done:
-                    continue
-                instruction = by_id[episode_id]
-                trace = run_plan(get_task(instruction.task_id), plan)
-                writer.write(EpisodeRecord.from_trace(instruction, plan, trace))
+        opened = open_run(run_dir, header, EXTERNAL_RESUME_KEYS, new_revision_ok=new_revision_ok)
+        done = {episode.episode_id for episode in opened}
+        try:
+            with EpisodeWriter(run_dir) as writer:
+                for episode_id, plan in plans.items():
+                    if episode_id in done:
+                        continue
+                    instruction = by_id[episode_id]
+                    trace = run_plan(get_task(instruction.task_id), plan)
+                    writer.write(EpisodeRecord.from_trace(instruction, plan, trace))
+        except BaseException:
+            set_status(run_dir, "incomplete")
+            raise
+        finish_status(run_dir, list(everything))
     return len(everything)
 
 
-def score_plan_file(path: Path, run_dir: Path, system_name: str, strategy: str = "external") -> int:
+def score_plan_file(
+    path: Path, run_dir: Path, system_name: str, strategy: str = "external", *, new_revision_ok: bool = False
+) -> int:
     """Execute every plan of `path` into `run_dir` (planner `external`); returns the number of episodes."""
-    return score_plans(read_plan_file(path), run_dir, system_name, strategy, source=path.name)
+    return score_plans(
+        read_plan_file(path), run_dir, system_name, strategy, source=path.name, new_revision_ok=new_revision_ok
+    )

@@ -10,8 +10,11 @@ benchmark never requires our planner.
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as dt
+import functools
 import json
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -24,23 +27,13 @@ if TYPE_CHECKING:
     from talkdem.instructions import Instruction
     from talkdem.sim import EpisodeTrace
 
-__all__ = ["OUTCOME_KEYS", "RUN_SCHEMA", "EpisodeRecord", "RecordError", "RunHeader"]
+__all__ = ["RUN_SCHEMA", "STATUSES", "EpisodeRecord", "RecordError", "RunHeader"]
 
 RUN_SCHEMA = "talkdem-run/1"
 
-OUTCOME_KEYS = (
-    "model",
-    "planner",
-    "strategy",
-    "prompt_version",
-    "dataset_hash",
-    "config.max_steps",
-    "config.scoring",
-    "config.mask_failed",
-    "config.mode",
-)
-"""Header fields (top level, or `config.NAME`) that change what an episode's outcome means: episodes that
-differ in any of them cannot be pooled into one run (resume and merge both check them)."""
+STATUSES = ("running", "complete", "incomplete")
+"""A run's `status`: being written (or killed while it was), every planned episode on disk, stopped short.
+Headers written before the field existed have status "" (unknown: `planned_episodes` still tells)."""
 
 
 class RecordError(ValueError):
@@ -79,17 +72,33 @@ class RunHeader:
     prompt_version: str
     dataset_hash: str
     code_revision: str
+    """The code that wrote the latest episodes."""
     config: dict[str, Any] = field(default_factory=dict)
-    """Planner settings (step limit, scoring, feedback policy), conditions, sample size, seed, and
-    `planned_episodes`: how many episodes the run was asked for (a smaller count on disk = incomplete)."""
+    """Planner settings (every `SayCanConfig` field), `strategy_args`, `backend_args`, conditions, sample
+    size, seed, and `planned_episodes`: how many episodes the run was asked for (fewer on disk = incomplete)."""
     schema: str = RUN_SCHEMA
     created: str = ""
+    inputs: dict[str, str] = field(default_factory=dict)
+    """sha256 of every input file the run reads, by name (`data/tasks/benchmark.jsonl`, ...); empty in
+    headers written before inputs were hashed (unknown)."""
+    status: str = ""
+    """One of `STATUSES`, kept up to date by the writer; "" in older headers (unknown)."""
+    code_revisions: tuple[str, ...] = ()
+    """Every code revision that wrote episodes, oldest first, when there was more than one (a resume with
+    `--continue-on-new-revision`, or a merge of shards run on different revisions)."""
 
     @classmethod
     def new(
-        cls, *, model: dict[str, str], planner: str, strategy: str, prompt_version: str, config: dict[str, Any]
+        cls,
+        *,
+        model: dict[str, str],
+        planner: str,
+        strategy: str,
+        prompt_version: str,
+        config: dict[str, Any],
+        inputs: dict[str, str] | None = None,
     ) -> RunHeader:
-        """A header for a run starting now, on this dataset and this code revision."""
+        """A header for a run starting now (status `running`), on this dataset and this code revision."""
         from talkdem.instructions import dataset_hash
         from talkdem.runs.revision import code_revision
 
@@ -102,13 +111,20 @@ class RunHeader:
             code_revision=code_revision(),
             config=config,
             created=dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
+            inputs=dict(inputs or {}),
+            status="running",
         )
+
+    def with_changes(self, **changes: Any) -> RunHeader:
+        return dataclasses.replace(self, **changes)
 
     def to_json(self) -> dict[str, Any]:
         return dict(to_jsonable(self))
 
     @classmethod
     def from_json(cls, data: object, where: str = "run header") -> RunHeader:
+        """A validated header: every field's type and range (`config.max_steps` a positive integer, a status
+        of `STATUSES`, sha256 digests as 64 hex digits, ...); the first bad field is one error naming `where`."""
         if not isinstance(data, dict):
             raise RecordError(f"{where}: expected a JSON object, got {type(data).__name__}")
         schema = _field(data, "schema", str, where, RUN_SCHEMA)
@@ -117,17 +133,135 @@ class RunHeader:
         model = _field(data, "model", dict, where)
         if not all(isinstance(k, str) and isinstance(v, str) for k, v in model.items()):
             raise RecordError(f"{where}: field 'model' must map names to strings")
+        dataset = _field(data, "dataset_hash", str, where)
+        if dataset and not _is_digest(dataset):
+            raise RecordError(f"{where}: field 'dataset_hash' must be a sha256 hex digest (or empty), got {dataset!r}")
+        created = _field(data, "created", str, where, "")
+        if created:
+            try:
+                dt.datetime.fromisoformat(created)
+            except ValueError:
+                raise RecordError(f"{where}: field 'created' must be an ISO date and time, got {created!r}") from None
+        inputs = _field(data, "inputs", dict, where, {})
+        if not all(isinstance(k, str) and k and isinstance(v, str) and _is_digest(v) for k, v in inputs.items()):
+            raise RecordError(f"{where}: field 'inputs' must map file names to sha256 hex digests")
+        status = _field(data, "status", str, where, "")
+        if status and status not in STATUSES:
+            raise RecordError(
+                f"{where}: field 'status' must be one of {', '.join(map(repr, STATUSES))}, got {status!r}"
+            )
+        revisions = _field(data, "code_revisions", object, where, [])
+        if not isinstance(revisions, list) or not all(isinstance(r, str) for r in revisions):
+            raise RecordError(f"{where}: field 'code_revisions' must be a list of strings")
+        config = dict(_field(data, "config", dict, where, {}))
+        check_config(config, where)
         return cls(
             model=dict(model),
-            planner=_field(data, "planner", str, where),
-            strategy=_field(data, "strategy", str, where),
+            planner=_nonempty(data, "planner", where),
+            strategy=_nonempty(data, "strategy", where),
             prompt_version=_field(data, "prompt_version", str, where),
-            dataset_hash=_field(data, "dataset_hash", str, where),
+            dataset_hash=dataset,
             code_revision=_field(data, "code_revision", str, where, ""),
-            config=dict(_field(data, "config", dict, where, {})),
+            config=config,
             schema=schema,
-            created=_field(data, "created", str, where, ""),
+            created=created,
+            inputs=dict(inputs),
+            status=status,
+            code_revisions=tuple(revisions),
         )
+
+
+def _is_digest(text: str) -> bool:
+    return len(text) == 64 and all(c in "0123456789abcdef" for c in text)
+
+
+def _nonempty(data: Mapping[str, Any], name: str, where: str) -> str:
+    value: str = _field(data, name, str, where)
+    if not value:
+        raise RecordError(f"{where}: field '{name}' must not be empty")
+    return value
+
+
+def _is_int(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_scalar(value: object) -> bool:
+    return isinstance(value, str | int | float | bool)
+
+
+@functools.cache
+def _planner_checks() -> dict[str, tuple[str, Any]]:
+    """`config.NAME` -> (what it must be, a test), for every `SayCanConfig` field, from its type (or, when
+    the annotation cannot be resolved, its default's type): a field added to the planner later is
+    validated without an edit here."""
+    import typing
+
+    from talkdem.planner.saycan import SayCanConfig
+
+    try:
+        hints = typing.get_type_hints(SayCanConfig)
+    except (NameError, TypeError):  # an annotation naming a type imported only for type checking
+        hints = {}
+    checks: dict[str, tuple[str, Any]] = {}
+    for spec in dataclasses.fields(SayCanConfig):
+        name = spec.name
+        kind = hints.get(name, type(spec.default) if spec.default is not dataclasses.MISSING else None)
+        if typing.get_origin(kind) is typing.Literal:
+            allowed = typing.get_args(kind)
+            checks[name] = (f"one of {', '.join(map(repr, allowed))}", lambda v, a=allowed: v in a)
+        elif kind is bool:
+            checks[name] = ("true or false", lambda v: isinstance(v, bool))
+        elif kind is int:
+            # A step limit of 0 plans nothing; every other count may be 0 (`log_top` 0: off).
+            if name == "max_steps":
+                checks[name] = ("a positive integer", lambda v: _is_int(v) and v >= 1)
+            else:
+                checks[name] = ("a non-negative integer", lambda v: _is_int(v) and v >= 0)
+        elif kind is float:
+            checks[name] = ("a finite number", lambda v: (_is_int(v) or isinstance(v, float)) and math.isfinite(v))
+        elif kind is str:
+            checks[name] = ("a string", lambda v: isinstance(v, str))
+    return checks
+
+
+def _is_shard(value: object) -> bool:
+    if not isinstance(value, str):
+        return False
+    parts = value.split("/")
+    return len(parts) == 2 and all(p.isdigit() for p in parts) and 1 <= int(parts[0]) <= int(parts[1])
+
+
+_CONFIG_CHECKS: dict[str, tuple[str, Any]] = {
+    "planned_episodes": ("a non-negative integer", lambda v: _is_int(v) and v >= 0),
+    "limit": ("a positive integer or null", lambda v: v is None or (_is_int(v) and v >= 1)),
+    "tasks": ("a positive integer", lambda v: _is_int(v) and v >= 1),
+    "threads": ("a positive integer", lambda v: _is_int(v) and v >= 1),
+    "conditions": ("a list of strings", lambda v: isinstance(v, list) and all(isinstance(c, str) for c in v)),
+    "shard": ("I/N with 1 <= I <= N", _is_shard),
+    "merged_from": ("a list of strings", lambda v: isinstance(v, list) and all(isinstance(c, str) for c in v)),
+    "code_revisions": ("a list of strings", lambda v: isinstance(v, list) and all(isinstance(c, str) for c in v)),
+    "served": ("an object", lambda v: isinstance(v, dict)),
+    "plans": ("a string", lambda v: isinstance(v, str)),
+    "plans_sha256": ("a sha256 hex digest", lambda v: isinstance(v, str) and _is_digest(v)),
+    "strategy_args": (
+        "map names to strings, numbers or true/false",
+        lambda v: isinstance(v, dict) and all(isinstance(k, str) and _is_scalar(x) for k, x in v.items()),
+    ),
+    "backend_args": (
+        "map names to strings, numbers or true/false",
+        lambda v: isinstance(v, dict) and all(isinstance(k, str) and _is_scalar(x) for k, x in v.items()),
+    ),
+}
+
+
+def check_config(config: Mapping[str, Any], where: str) -> None:
+    """Every known `config` field of a header has its type and range (unknown fields pass: a newer
+    version's, which this one does not read)."""
+    for name, (expected, test) in {**_planner_checks(), **_CONFIG_CHECKS}.items():
+        if name in config and not test(config[name]):
+            phrase = expected if expected.startswith("map ") else f"be {expected}"
+            raise RecordError(f"{where}: field 'config.{name}' must {phrase}, got {config[name]!r}")
 
 
 @dataclass(frozen=True)

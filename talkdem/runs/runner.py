@@ -11,6 +11,7 @@ Buffering and writing in order instead would lose up to N-1 finished episodes on
 from __future__ import annotations
 
 import contextlib
+import json
 import queue
 import sys
 from collections.abc import Sequence
@@ -20,18 +21,23 @@ from pathlib import Path
 
 from talkdem.instructions import Instruction
 from talkdem.llm.base import LanguageModel
-from talkdem.planner.prompt import prompt_version
 from talkdem.planner.saycan import PlanResult, SayCanConfig, SayCanPlanner
 from talkdem.planner.strategies import PlannerInput, Strategy
-from talkdem.runs.records import OUTCOME_KEYS, EpisodeRecord, RunHeader
-from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, EpisodeWriter, open_run, read_episodes, run_lock
+from talkdem.runs.records import EpisodeRecord
+from talkdem.runs.spec import RESUME_KEYS, RunSpec, Scalar
+from talkdem.runs.store import (
+    EPISODES_FILE,
+    HEADER_FILE,
+    EpisodeWriter,
+    finish_status,
+    open_run,
+    read_episodes,
+    run_lock,
+    set_status,
+)
 from talkdem.tasks import get_task
 
 __all__ = ["RESUME_KEYS", "RunSummary", "episode_record", "run_episodes"]
-
-# What must match for a run directory to be resumed with new episodes: what an outcome means, and the shard
-# (a shard's folder must not take another shard's episodes). The selection may grow between sittings.
-RESUME_KEYS = (*OUTCOME_KEYS, "config.shard")
 
 
 @dataclass(frozen=True)
@@ -45,6 +51,11 @@ class RunSummary:
 
 
 def episode_record(instruction: Instruction, result: PlanResult, shown: str, notes: dict[str, str]) -> EpisodeRecord:
+    if result.top_candidates:
+        # `--log-top N`: each step's best skills and scores, kept in the record (notes hold text, so JSON)
+        # for the viewer; a log alone would be lost with the terminal.
+        top = [[[skill, round(score, 4)] for skill, score in step] for step in result.top_candidates]
+        notes = {**notes, "top_candidates": json.dumps(top, ensure_ascii=False)}
     return EpisodeRecord.from_trace(
         instruction,
         result.plan,
@@ -64,36 +75,49 @@ def run_episodes(
     extra_config: dict[str, object] | None = None,
     progress: bool = True,
     clients: Sequence[LanguageModel] = (),
+    *,
+    backend_args: dict[str, Scalar] | None = None,
+    new_revision_ok: bool = False,
 ) -> RunSummary:
     """Plan and execute every instruction not yet in `run_dir`; each finished episode is on disk at once.
 
     `clients`: the model clients that step episodes at once (one episode per client at a time; `model` is
     used for the header and the strategies' rewriting); empty: `model` alone, one episode at a time.
+    `extra_config`: the selection (conditions, sample size, shard) recorded in the header; `backend_args`:
+    how the model was reached. The run's spec (`RunSpec`) writes the header and decides what a resume must
+    match; `new_revision_ok` lets a run started on another code revision go on (both are recorded).
     """
     config = config or SayCanConfig()
     clients = list(clients) or [model]
     served: dict[str, object] = {k: v for k, v in model.run_info().items() if k != "base_url"}
     if served:
         served["servers"] = sorted({c.run_info().get("base_url", "") for c in clients})
-    header = RunHeader.new(
+    spec = RunSpec.for_run(
+        config,
+        strategy,
+        backend_args={"backend": model.identity.backend, **(backend_args or {})},
+        selection=extra_config,
+    )
+    header = spec.header(
         model={"backend": model.identity.backend, "name": model.identity.name, "revision": model.identity.revision},
-        planner=config.planner_name,
-        strategy=strategy.name,
-        prompt_version=prompt_version(),
-        config={
-            "max_steps": config.max_steps,
-            "scoring": config.scoring,
-            "mask_failed": config.mask_failed,
-            "mode": config.mode,
-            **(extra_config or {}),
-            **({"served": served} if served else {}),
-            "planned_episodes": len(instructions),
-        },
+        planned_episodes=len(instructions),
+        served=served,
     )
     is_new = not run_dir.exists()
     try:
         with run_lock(run_dir):
-            return _run_locked(instructions, model, clients, strategy, run_dir, header, config, progress)
+            done = {
+                episode.episode_id
+                for episode in open_run(run_dir, header, spec.resume_keys, new_revision_ok=new_revision_ok)
+            }
+            try:
+                summary = _run_locked(instructions, done, model, clients, strategy, run_dir, config, progress)
+            except BaseException:
+                if (run_dir / HEADER_FILE).is_file():
+                    set_status(run_dir, "incomplete")
+                raise
+            finish_status(run_dir, [i.id for i in instructions])
+            return summary
     except BaseException:
         if is_new:
             _remove_if_empty(run_dir)
@@ -114,17 +138,16 @@ def _remove_if_empty(run_dir: Path) -> None:
 
 def _run_locked(
     instructions: Sequence[Instruction],
+    done: set[str],
     model: LanguageModel,
     clients: Sequence[LanguageModel],
     strategy: Strategy,
     run_dir: Path,
-    header: RunHeader,
     config: SayCanConfig,
     progress: bool,
 ) -> RunSummary:
     from tqdm import tqdm
 
-    done = {episode.episode_id for episode in open_run(run_dir, header, RESUME_KEYS)}
     pending = [i for i in instructions if i.id not in done]
     planners: queue.SimpleQueue[SayCanPlanner] = queue.SimpleQueue()
     for client in clients:

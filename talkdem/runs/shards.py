@@ -21,7 +21,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from talkdem.runs.records import OUTCOME_KEYS, EpisodeRecord, RunHeader
+from talkdem.runs.records import EpisodeRecord, RunHeader
+from talkdem.runs.spec import MERGE_KEYS, differences
 from talkdem.runs.store import EPISODES_FILE, read_episodes, read_header, run_lock, write_header
 
 if TYPE_CHECKING:
@@ -39,9 +40,6 @@ __all__ = [
     "shard_of",
     "split_run",
 ]
-
-# What every shard must agree on: what an outcome means (the resume keys) and which episodes the run covers.
-MERGE_KEYS = (*OUTCOME_KEYS, "config.conditions", "config.limit")
 
 
 @dataclass(frozen=True)
@@ -92,12 +90,6 @@ class MergeResult:
     missing: tuple[str, ...]
 
 
-def _value(header: RunHeader, key: str) -> Any:
-    if key.startswith("config."):
-        return header.config.get(key.removeprefix("config."))
-    return header.to_json()[key]
-
-
 def _selection(header: RunHeader) -> list[str]:
     """The episode ids of the whole (unsharded) run the header describes."""
     from talkdem.runs.sampling import select_episodes
@@ -118,10 +110,9 @@ def merge_runs(out: Path, shard_dirs: Sequence[Path], allow_incomplete: bool = F
     headers = [read_header(d) for d in shard_dirs]
     first = headers[0]
     for directory, header in zip(shard_dirs[1:], headers[1:], strict=True):
-        clashes = [k for k in MERGE_KEYS if _value(header, k) != _value(first, k)]
+        clashes = differences(first, header, MERGE_KEYS)
         if clashes:
-            details = "; ".join(f"{k}: {_value(first, k)!r} vs {_value(header, k)!r}" for k in clashes)
-            raise ValueError(f"{directory} is not a shard of the same run as {shard_dirs[0]} ({details})")
+            raise ValueError(f"{directory} is not a shard of the same run as {shard_dirs[0]} ({'; '.join(clashes)})")
     shards = [h.config.get("shard") for h in headers]
     counts = {str(s).split("/")[-1] for s in shards if s}
     if len(counts) > 1:
@@ -152,17 +143,24 @@ def merge_runs(out: Path, shard_dirs: Sequence[Path], allow_incomplete: bool = F
     if out.exists() and (not out.is_dir() or any(out.iterdir())):
         raise ValueError(f"{out}: exists and is not an empty folder; choose a new OUT")
     with run_lock(out):
-        config = {k: v for k, v in first.config.items() if k != "shard"}
+        config = {k: v for k, v in first.config.items() if k not in ("shard", "code_revisions")}
         config["planned_episodes"] = len(selection)
         config["merged_from"] = [str(s) if s else str(d.name) for s, d in zip(shards, shard_dirs, strict=True)]
         served: list[dict[str, Any]] = [h.config["served"] for h in headers if isinstance(h.config.get("served"), dict)]
         if served:
             servers = sorted({url for s in served for url in s.get("servers", [])})
             config["served"] = {**served[0], "servers": servers}
-        revisions = sorted({h.code_revision for h in headers})
-        if len(revisions) > 1:
-            config["code_revisions"] = revisions
-        write_header(out, RunHeader(**{**first.__dict__, "config": config}))
+        revisions: list[str] = []
+        for header in headers:  # every revision that wrote episodes, in shard order
+            recorded = header.config.get("code_revisions")  # where older versions put them
+            history = header.code_revisions or tuple(recorded if isinstance(recorded, list) else [header.code_revision])
+            revisions += [r for r in history if r and r not in revisions]
+        merged = first.with_changes(
+            config=config,
+            code_revisions=tuple(revisions) if len(revisions) > 1 else (),
+            status="incomplete" if missing else "complete",
+        )
+        write_header(out, merged)
         rewrite_episodes(out, [by_id[i] for i in selection if i in by_id])
     return MergeResult(out, len(by_id), missing)
 
@@ -231,9 +229,10 @@ def split_run(
             "shard": str(shard),
             "planned_episodes": len(mine),
         }
+        seeded = [done[i.id] for i in mine if i.id in done]
+        status = "complete" if len(seeded) == len(mine) else "incomplete"
         with run_lock(folder):
-            write_header(folder, RunHeader(**{**header.__dict__, "config": config}))
-            seeded = [done[i.id] for i in mine if i.id in done]
+            write_header(folder, header.with_changes(config=config, status=status))
             rewrite_episodes(folder, seeded)
         shards.append(SplitShard(folder, shard, len(seeded), len(mine)))
     return shards

@@ -19,7 +19,6 @@ import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
 
 from talkdem.runs.records import EpisodeRecord, RunHeader
 from talkdem.serialization import parse_json
@@ -30,11 +29,13 @@ __all__ = [
     "EpisodeWriter",
     "RunInUseError",
     "RunProgress",
+    "finish_status",
     "open_run",
     "read_episodes",
     "read_header",
     "run_lock",
     "run_progress",
+    "set_status",
     "write_header",
 ]
 
@@ -129,33 +130,50 @@ def run_lock(run_dir: Path) -> Iterator[None]:
         os.close(descriptor)
 
 
-def _check_same_run(run_dir: Path, existing: RunHeader, wanted: RunHeader, must_match: Sequence[str]) -> None:
-    def value(header: RunHeader, key: str) -> Any:
-        if key.startswith("config."):
-            return header.config.get(key.removeprefix("config."))
-        return header.to_json()[key]
+def _revisions(run_dir: Path, existing: RunHeader, wanted: RunHeader, new_revision_ok: bool) -> tuple[str, ...]:
+    """The code revisions of a resumed run: refused on another revision unless the caller allows it, then
+    both are recorded (oldest first)."""
+    before, now = existing.code_revision, wanted.code_revision
+    if not before or before == now:
+        return existing.code_revisions
+    if not new_revision_ok:
+        raise ValueError(
+            f"{run_dir} was started on code revision {before[:12]}, this is {now[:12]}: episodes of two revisions "
+            "may not be comparable; pass --continue-on-new-revision to go on (both revisions are recorded in the "
+            "header), or choose another --out"
+        )
+    recorded = existing.config.get("code_revisions")  # where merges of older versions put them
+    history = existing.code_revisions or tuple(recorded if isinstance(recorded, list) else [before])
+    return history if history[-1] == now else (*history, now)
 
-    clashes = [key for key in must_match if value(existing, key) != value(wanted, key)]
-    if clashes:
-        details = "; ".join(f"{k}: {value(existing, k)!r} there, {value(wanted, k)!r} now" for k in clashes)
-        raise ValueError(f"{run_dir} holds a different run ({details}); choose another --out")
 
-
-def open_run(run_dir: Path, header: RunHeader, must_match: Sequence[str]) -> list[EpisodeRecord]:
+def open_run(
+    run_dir: Path, header: RunHeader, must_match: Sequence[str], *, new_revision_ok: bool = False
+) -> list[EpisodeRecord]:
     """Start `run_dir` with `header`, or check that the run already there is the same run (every key of
-    `must_match`, top-level header fields or `config.NAME`, equal) and return its finished episodes.
+    `must_match`, top-level header fields or `config.NAME`, equal; every input file unchanged; the same
+    code revision unless `new_revision_ok`) and return its finished episodes.
 
-    The caller holds `run_lock(run_dir)`. On resume the header keeps its creation date and takes the new
-    selection (conditions, sample size, planned episode count): extending a run to more tasks is allowed,
-    changing what a result means is not. Nothing is ever deleted here but a truncated last line."""
+    The caller holds `run_lock(run_dir)`. On resume the header keeps its creation date and input hashes
+    and takes the new selection (conditions, sample size, planned episode count) and status `running`:
+    extending a run to more tasks is allowed, changing what a result means is not. Nothing is ever
+    deleted here but a truncated last line."""
+    from talkdem.runs.spec import check_same_run
+
     header_path = run_dir / HEADER_FILE
     if header_path.exists():
         existing = read_header(run_dir)
-        _check_same_run(run_dir, existing, header, must_match)
+        check_same_run(run_dir, existing, header, must_match)
+        revisions = _revisions(run_dir, existing, header, new_revision_ok)
         done = read_episodes(run_dir, repair=True)
         write_header(
             run_dir,
-            RunHeader(**{**existing.__dict__, "config": {**existing.config, **header.config}}),
+            existing.with_changes(
+                config={**existing.config, **header.config},
+                status="running",
+                code_revision=header.code_revision if revisions else existing.code_revision,
+                code_revisions=revisions,
+            ),
         )
         return done
     if run_dir.is_dir() and any(run_dir.iterdir()):
@@ -165,6 +183,19 @@ def open_run(run_dir: Path, header: RunHeader, must_match: Sequence[str]) -> lis
         )
     write_header(run_dir, header)
     return []
+
+
+def set_status(run_dir: Path, status: str) -> None:
+    """Record the run's status (`running`, `complete`, `incomplete`) in its header."""
+    write_header(run_dir, read_header(run_dir).with_changes(status=status))
+
+
+def finish_status(run_dir: Path, planned: Sequence[str]) -> str:
+    """`complete` when every planned episode id is on disk, else `incomplete`; recorded and returned."""
+    done = {episode.episode_id for episode in read_episodes(run_dir)}
+    status = "complete" if set(planned) <= done else "incomplete"
+    set_status(run_dir, status)
+    return status
 
 
 class RunProgress:

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from builders.build import BuildResult, CheckpointWarning, build, dataset_files
+from builders.build import BuildResult, CheckpointWarning, build, dataset_files, read_checkpoint
 from talkdem.paths import repo_root
 
 DATA = repo_root() / "data"
@@ -78,12 +78,12 @@ def test_truncated_checkpoint_line_is_recovered(reference_build: BuildResult, tm
     full = tmp_path / "full.jsonl"
     # a checkpoint with 3 finished units and half of a fourth, as a kill during a write leaves it
     lines = []
-    from builders.build import _header, build_unit
+    from builders.build import build_unit, checkpoint_header
     from builders.generation import get_generator
     from talkdem.tasks import load_tasks
 
     gen = get_generator("rules")
-    lines.append(json.dumps(_header(gen, 0)))
+    lines.append(json.dumps(checkpoint_header(gen, 0, None, load_tasks("benchmark"), load_tasks("memory"))))
     for task in load_tasks("benchmark")[:4]:
         lines.append(
             json.dumps({"unit": f"benchmark:{task.task_id}", "rows": build_unit(gen, task, 0)}, ensure_ascii=False)
@@ -181,3 +181,65 @@ def test_failing_variants_are_regenerated_then_kept_with_their_checks() -> None:
     assert stats["first_attempt_passed"] == 11 and stats["regenerated"] == 4
     assert stats["second_attempt_passed"] == 3 and stats["third_attempt"] == 1
     assert stats["kept_with_failed_checks"] == 1 and stats["failed_checks"]["target_object"] == 1
+
+
+class _Stop(Exception):
+    """Stands in for a kill after a number of finished units."""
+
+
+def _interrupted_full_build(monkeypatch: pytest.MonkeyPatch, checkpoint: Path, out: Path, units: int) -> bytes:
+    import builders.build as build_module
+
+    real = build_module.build_unit
+    calls = {"n": 0}
+
+    def stopping(*args: object, **kwargs: object) -> object:
+        if calls["n"] == units:
+            raise _Stop
+        calls["n"] += 1
+        return real(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(build_module, "build_unit", stopping)
+    with pytest.raises(_Stop):
+        build(out, checkpoint=checkpoint, progress=False)
+    monkeypatch.setattr(build_module, "build_unit", real)
+    saved = checkpoint.read_bytes()
+    assert saved.count(b"\n") == units + 1  # the settings line and the finished units
+    return saved
+
+
+def test_a_different_build_never_deletes_or_reuses_a_checkpoint(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    checkpoint = tmp_path / "checkpoint.jsonl"
+    saved = _interrupted_full_build(monkeypatch, checkpoint, tmp_path / "full", units=3)
+    settings = json.loads(saved.splitlines()[0])
+    assert settings["limit"] is None and settings["smoke"] is False and settings["seed"] == 0
+    assert settings["generator"] == "rules" and len(settings["tasks_sha256"]) == 64
+    # A smoke build given the same --checkpoint: refused with one line, the full build's units untouched.
+    command = [sys.executable, "-m", "talkdem", "build", "--out", str(tmp_path / "smoke"), "--limit", "1"]
+    result = subprocess.run(
+        [*command, "--checkpoint", str(checkpoint), "--no-progress"], capture_output=True, text=True, timeout=300
+    )
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert "checkpoint of another build" in result.stderr and "limit" in result.stderr
+    assert checkpoint.read_bytes() == saved
+    assert not (tmp_path / "smoke").exists() or not any((tmp_path / "smoke").iterdir())
+    # Another seed, or other task files, are other builds too; a torn last line of another build's
+    # checkpoint is not cut either.
+    with pytest.raises(ValueError, match="checkpoint of another build"):
+        build(tmp_path / "other", checkpoint=checkpoint, progress=False, seed=1)
+    torn = saved + b'{"unit": "benchmark:half'
+    checkpoint.write_bytes(torn)
+    with pytest.raises(ValueError, match="checkpoint of another build"):
+        build(tmp_path / "other", checkpoint=checkpoint, progress=False, limit=2)
+    assert checkpoint.read_bytes() == torn
+    # The same build's settings still find its 3 finished units (resuming it in full takes a minute).
+    from builders.build import checkpoint_header
+    from builders.generation import get_generator
+    from talkdem.tasks import load_tasks
+
+    checkpoint.write_bytes(saved)
+    same = checkpoint_header(get_generator("rules"), 0, None, load_tasks("benchmark"), load_tasks("memory"))
+    assert len(read_checkpoint(checkpoint, same)) == 3 and checkpoint.read_bytes() == saved

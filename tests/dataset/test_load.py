@@ -116,3 +116,67 @@ def test_talk_dem_load_takes_a_split_and_the_clean_level_zero(tmp_path: Path) ->
         talk_dem.load("intrusion", 2, split="level_3")
     with pytest.raises(ValueError, match="neither a dataset folder nor a Hub repository id"):
         talk_dem.load("clean", path="no-such-folder")
+
+
+def _copy_with_edit(folder: Path, text: str | None, config: str = "intrusion", split: str = "level_2") -> Path:
+    """A copy of the dataset named `data` (as every checkout's is) under `folder`, with the first row of
+    `config/split` reading `text` (None: unedited)."""
+    import shutil
+
+    copy = folder / "data"
+    shutil.copytree(DATA, copy, ignore=shutil.ignore_patterns("parity", "tasks"))
+    if text is not None:
+        _edit_first_row(copy, text, config, split)
+    return copy
+
+
+def _edit_first_row(copy: Path, text: str, config: str = "intrusion", split: str = "level_2") -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = copy / config / f"{split}.parquet"
+    table = pq.read_table(path)
+    rows = table.to_pylist()
+    rows[0]["instruction"] = text
+    pq.write_table(pa.Table.from_pylist(rows, schema=table.schema), path)
+
+
+def test_the_loader_reads_what_is_on_disk(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    # One Hugging Face cache for everything, as on a user's machine: a second folder named `data`, or an
+    # edit in place, must not be answered with the rows cached for the first.
+    monkeypatch.setattr(datasets.config, "HF_DATASETS_CACHE", tmp_path / "hf")
+    first = _copy_with_edit(tmp_path / "a", None)
+    second = _copy_with_edit(tmp_path / "b", "an edited second copy")
+    monkeypatch.setenv("TALKDEM_DATA_DIR", str(first))
+    original = talk_dem.load("intrusion", 2)[0]["instruction"]
+    assert original != "an edited second copy"
+    monkeypatch.setenv("TALKDEM_DATA_DIR", str(second))
+    assert talk_dem.load("intrusion", 2)[0]["instruction"] == "an edited second copy"
+    assert talk_dem.load("intrusion", 2, path=str(first))[0]["instruction"] == original
+    _edit_first_row(first, "edited in place")
+    monkeypatch.setenv("TALKDEM_DATA_DIR", str(first))
+    assert talk_dem.load("intrusion", 2)[0]["instruction"] == "edited in place"
+
+
+def test_the_readme_load_dataset_example_reads_the_folder_it_names(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """The README's `datasets.load_dataset` line for the local dataset folder (`"data"` in a checkout's root,
+    or the folder the package names), run as written in two checkouts whose `data/` differ: each must load
+    its own rows, not the first one's from the shared cache."""
+    import re
+
+    readme = (repo_root() / "README.md").read_text(encoding="utf-8")
+    pattern = r'^(\w+) = datasets\.load_dataset\(("data"|talk_dem\.data_dir\(\)), "(\w+)", split="(\w+)".*$'
+    found = re.search(pattern, readme, flags=re.MULTILINE)
+    assert found, "the README shows loading the local dataset folder with datasets.load_dataset"
+    example, name, config, split = found.group(0), found.group(1), found.group(3), found.group(4)
+    monkeypatch.setattr(datasets.config, "HF_DATASETS_CACHE", tmp_path / "hf")
+    for checkout, text in (("a", "the first checkout"), ("b", "the second checkout")):
+        copy = _copy_with_edit(tmp_path / checkout, text, config, split)
+        monkeypatch.chdir(tmp_path / checkout)
+        monkeypatch.setenv("TALKDEM_DATA_DIR", str(copy))
+        scope: dict[str, object] = {"datasets": datasets, "talk_dem": talk_dem}
+        exec(example, scope)
+        loaded = scope[name]
+        assert isinstance(loaded, datasets.Dataset) and loaded[0]["instruction"] == text

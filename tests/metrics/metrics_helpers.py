@@ -52,7 +52,7 @@ def write_run(
             planner=planner,
             strategy=strategy,
             prompt_version="test",
-            dataset_hash="test",
+            dataset_hash="0" * 64,  # a sha256 digest, as headers are validated on read
             code_revision="test",
         ),
     )

@@ -271,6 +271,30 @@ def _check_report(w: Wheel, server: str) -> None:
     assert str(w.home) not in (report / "report.md").read_text()
 
 
+def _check_view(w: Wheel, server: str) -> None:
+    w.talkdem("view", *_runs(w), "--out", "viewer")
+    assert (w.home / "viewer" / "index.html").is_file() and list((w.home / "viewer" / "data").iterdir())
+
+
+def _check_sample_errors(w: Wheel, server: str) -> None:
+    w.talkdem("sample-errors", *_runs(w), "--per-condition", "3", "--seed", "0", "--out", "sample.json")
+    assert isinstance(json.loads((w.home / "sample.json").read_text()), dict)
+
+
+def _check_report_labels(w: Wheel, server: str) -> None:
+    """Labels as the viewer exports them: one failure under a pattern, given the classifier's own type."""
+    from talkdem.report import score_runs
+    from talkdem.viewer.labels import LABELS_SCHEMA
+
+    runs = score_runs([w.home / r for r in _runs(w)], bootstrap=0)
+    run, error = next((run, e) for run in runs for e in run.scores.errors)
+    labels = [{"run": run.label, "episode_id": error.instruction_id, "type": error.type.value}]
+    (w.home / "labels.json").write_text(json.dumps({"schema": LABELS_SCHEMA, "labels": labels}))
+    w.talkdem("report", *_runs(w), "--labels", "labels.json", "--viewer", "../viewer/index.html", "--bootstrap", "0")
+    report = (w.home / "talkdem_report" / "report.md").read_text()
+    assert "kappa" in report.lower() and "labels.json" in report
+
+
 def _check_leaderboard(w: Wheel, server: str) -> None:
     out = w.talkdem("leaderboard", *_runs(w), "--out", "board", "--bootstrap", "0").stdout
     board = w.home / "board"
@@ -327,6 +351,9 @@ CHECKS: dict[str, Callable[[Wheel, str], None]] = {
     "talkdem score my_plans.jsonl --out runs/my-planner --name my-planner": _check_score,
     "talkdem score more_plans.jsonl --out runs/my-planner --name my-planner": _check_score_more,
     "talkdem report runs/*": _check_report,
+    "talkdem view runs/* --out viewer": _check_view,
+    "talkdem sample-errors runs/* --per-condition 3 --seed 0 --out sample.json": _check_sample_errors,
+    "talkdem report runs/* --labels labels.json --viewer ../viewer/index.html": _check_report_labels,
     "talkdem leaderboard runs/* --out board": _check_leaderboard,
     "talkdem push --leaderboard board --repo ORG/SPACE --results-repo ORG/RESULTS": _check_push,
     "talkdem models": _check_models,

@@ -33,6 +33,8 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> Path:
         "talkdem/_bundled/evaluate_talkdem/evaluate_talkdem.py",
         "talkdem/planner/prompts/VERSION",
         "talkdem/skills/categories.json",
+        "talkdem/viewer/assets/viewer.js",
+        "talkdem/viewer/assets/viewer.css",
     ):
         assert needed in names, f"the wheel lacks {needed}"
     subprocess.run([*pip, "install", "--no-deps", "--target", str(root / "site"), str(wheel)], check=True)
@@ -89,6 +91,9 @@ def test_simulate_score_and_report_from_the_wheel(installed: Path) -> None:
     _ok(_talkdem(installed, "report", str(installed / "run"), "--out", str(installed / "report"), "--no-plots"))
     report = (installed / "report" / "report.md").read_text()
     assert "wheel-check" in report and str(installed) not in report
+    _ok(_talkdem(installed, "view", str(installed / "run"), "--out", str(installed / "viewer")))
+    page = (installed / "viewer" / "index.html").read_text()
+    assert "TALKDEM_VIEWER_CHUNK" in page  # the viewer's script ships in the wheel
 
 
 @pytest.mark.slow
