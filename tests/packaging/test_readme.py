@@ -255,7 +255,13 @@ def _check_score(w: Wheel, server: str) -> None:
 
 
 def _check_score_more(w: Wheel, server: str) -> None:
-    (w.home / "more_plans.jsonl").write_text("\n".join(_plans(w, 2, skip=1)) + "\n")  # one new, one already there
+    # One episode already in the run (the same plan) and a new one: the second task under a pattern, failed
+    # although its clean instruction is solved (an error the classifier types, labelled below).
+    again = _plans(w, 1, skip=1)[0]
+    failed = json.dumps(
+        {"episode_id": json.loads(again)["episode_id"].replace(":clean:0", ":intrusion:1"), "plan": ["done"]}
+    )
+    (w.home / "more_plans.jsonl").write_text(f"{again}\n{failed}\n")
     out = w.talkdem("score", "more_plans.jsonl", "--out", "runs/my-planner", "--name", "my-planner").stdout
     assert "runs/my-planner: 1 episodes executed and scored, 2 already in the run (3 in all)" in out
 
