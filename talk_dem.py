@@ -45,6 +45,7 @@ __all__ = [
     "TASK_TYPES",
     "Condition",
     "Pattern",
+    "data_dir",
     "load",
     "split_name",
 ]
@@ -59,10 +60,17 @@ TASK_FEATURES = features("task")
 """Task metadata: the seed, its parameters, the scene's object types and the reference plan."""
 
 
-def _default_folder() -> str:
-    from talkdem.paths import data_dir  # the checkout's data/, $TALKDEM_DATA_DIR, or the wheel's copy
+def data_dir() -> str:
+    """The dataset folder this package reads, for `datasets.load_dataset(talk_dem.data_dir(), CONFIG, ...)`:
+    `$TALKDEM_DATA_DIR`, the checkout's `data/`, else the copy bundled in the installed wheel (a bare
+    `load_dataset("data", ...)` only works in a checkout's root, and would look for `data` on the Hub)."""
+    from talkdem.paths import data_dir as folder
 
-    return str(data_dir())
+    return str(folder())
+
+
+def _default_folder() -> str:
+    return data_dir()
 
 
 def load(

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import hashlib
 import json
+import sys
+import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -32,11 +34,30 @@ def memory_embeddings(
     """Unit-normalized embeddings of the memory instructions, computed once per bank and encoder."""
     folder = folder or cache_dir() / "care"
     path = folder / f"memory-{memory_hash(memory, encoder_name)[:20]}.npy"
-    if path.is_file():
+    if path.is_file() and memory:
         cached: NDArray[np.float64] = np.load(path)
-        if cached.shape[0] == len(memory):
+        # The file is keyed by the bank and the encoder's name; its shape is checked against one real
+        # encoding too, so a file written by another encoder under that name is recomputed, not used.
+        width = np.asarray(encode([memory[0].instruction])).shape[-1]
+        if cached.ndim == 2 and cached.shape == (len(memory), width):
             return cached
+    # The first CARE run on a machine embeds the whole bank (1,600 texts: ~40 s on 2 cores); say so, with the
+    # count and the rate, instead of a silent pause (a terminal also gets the encoder's bar, `talkdem.embeddings`).
+    print(
+        f"CARE: embedding the memory bank ({len(memory):,} instructions, {encoder_name}); once per machine, "
+        "then cached",
+        file=sys.stderr,
+        flush=True,
+    )
+    started = time.perf_counter()
     vectors = encode([item.instruction for item in memory])
+    seconds = max(time.perf_counter() - started, 1e-9)
+    print(
+        f"CARE: memory bank embedded: {len(memory):,} instructions in {seconds:.1f} s "
+        f"({len(memory) / seconds:,.0f} per s)",
+        file=sys.stderr,
+        flush=True,
+    )
     folder.mkdir(parents=True, exist_ok=True)
     partial = path.with_name(path.stem + ".partial.npy")
     np.save(partial, vectors)

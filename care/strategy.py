@@ -35,8 +35,13 @@ class ContextAwareRetrieval(Strategy):
         self.k = k
         # The default encoder's embeddings are cached on disk by (text, encoder): a repeated run over the same
         # instructions encodes nothing. An encoder passed in has no name to key a cache by, so it is used as is.
-        self.encode: Encoder = encode or CachedEncoder(_minilm(), ENCODER_NAME)
-        self.embeddings = memory_embeddings(self.memory, self.encode, ENCODER_NAME)
+        if encode is None:
+            self.encode: Encoder = CachedEncoder(_minilm(), ENCODER_NAME)
+            self.embeddings = memory_embeddings(self.memory, self.encode, ENCODER_NAME)
+        else:
+            # Never on disk under MiniLM's name: another encoder's vectors there would poison every later run.
+            self.encode = encode
+            self.embeddings = encode([item.instruction for item in self.memory])
 
     def retrieve(self, instructions: Sequence[str]) -> list[list[MemoryItem]]:
         queries = self.encode(list(instructions))

@@ -13,7 +13,8 @@ import datasets
 import evaluate
 
 from talkdem.metrics import score_predictions
-from talkdem.metrics.stats import BOOTSTRAP_SEED
+from talkdem.metrics.episodes import check_predictions
+from talkdem.metrics.stats import BOOTSTRAP_SEED, check_resamples
 
 _CITATION = """\
 @inproceedings{talkdem2026,
@@ -46,7 +47,8 @@ Args:
         or `<task_id>:<pattern>:<level>`. Plans are paired with instructions by id, not by position.
     retention (bool, default True): compute clean-conditioned retention; every pattern id then needs the
         clean id of its task among the references.
-    bootstrap (int, default 1000): bootstrap resamples over tasks for the intervals (0: none).
+    bootstrap (int, default 1000): bootstrap resamples over tasks for the intervals: 0 (no intervals) or a
+        whole number of at least 40 (a 95% percentile interval needs a resample in each 2.5% tail).
     seed (int): the bootstrap seed (fixed by default, so results are reproducible).
 Returns:
     A flat dict. Rates are fractions in [0, 1]; None where undefined (e.g. no episodes of a condition).
@@ -58,8 +60,10 @@ Returns:
     `ci_low/<measure>`, `ci_high/<measure>`; `n_episodes`, `n_tasks`.
 Raises:
     ValueError (talkdem.metrics.ScoringInputError) naming the offending ids for: empty input, unknown
-    or duplicate ids, plans that are not lists of strings, predictions and references of different
-    lengths, and (with retention) pattern ids without their clean twin.
+    or duplicate ids, plans that are not lists of strings (checked as given, before the features cast
+    them: a nested step is refused, not turned into a string), predictions and references of different
+    lengths, and (with retention) pattern ids without their clean twin. ValueError for a bootstrap
+    count that is not 0 or a whole number of at least 40.
 Examples:
     >>> import evaluate
     >>> from talkdem.tasks import get_task
@@ -103,6 +107,27 @@ class TalkDem(evaluate.Metric):  # type: ignore[misc]  # evaluate ships no type 
             codebase_urls=["https://github.com/talk-dem/talk-dem"],
             reference_urls=["https://github.com/talk-dem/talk-dem/blob/main/evaluate_talkdem/README.md"],
         )
+
+    # `evaluate` casts the inputs through the features before `_compute` sees them, and Arrow turns a nested
+    # step `[["find a box"]]` into the string "['find a box']": the inputs are checked as given, here.
+    # (Each override needs a docstring: `evaluate` appends the inputs' description to it.)
+    def compute(self, *, predictions: Any = None, references: Any = None, **kwargs: Any) -> Any:
+        """Score the plans (see the module's inputs description); inputs are checked as given."""
+        if predictions is not None or references is not None:
+            check_predictions(predictions, references)
+        if "bootstrap" in kwargs:
+            check_resamples(kwargs["bootstrap"])
+        return super().compute(predictions=predictions, references=references, **kwargs)
+
+    def add_batch(self, *, predictions: Any = None, references: Any = None, **kwargs: Any) -> None:
+        """Add plans and their ids for a later `compute()`; checked as given."""
+        check_predictions(predictions, references)
+        super().add_batch(predictions=predictions, references=references, **kwargs)
+
+    def add(self, *, prediction: Any = None, reference: Any = None, **kwargs: Any) -> None:
+        """Add one plan and its id for a later `compute()`; checked as given."""
+        check_predictions([prediction], [reference])
+        super().add(prediction=prediction, reference=reference, **kwargs)
 
     def _compute(
         self,

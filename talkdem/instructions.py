@@ -54,11 +54,20 @@ class MemoryItem:
 def _front_matter(readme: Path) -> dict[str, Any]:
     import yaml
 
-    text = readme.read_text()
-    if not text.startswith("---"):
-        raise ValueError(f"{readme}: no YAML front matter (the dataset card declares the configs)")
-    _, block, _ = text.split("---", 2)
-    loaded: dict[str, Any] = yaml.safe_load(block)
+    text = readme.read_text(encoding="utf-8")
+    parts = text.split("---", 2)
+    if not text.startswith("---") or len(parts) < 3:
+        raise ValueError(f"{readme}: no YAML front matter between '---' lines (the dataset card declares the configs)")
+    try:
+        loaded = yaml.safe_load(parts[1])
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        # The block starts on the file's first line (after its '---'): its line k is the file's line k + 1.
+        where = f"{readme}:{mark.line + 1}" if mark is not None else str(readme)
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise ValueError(f"{where}: the card's YAML front matter does not parse ({problem})") from None
+    if not isinstance(loaded, dict):
+        raise ValueError(f"{readme}: the YAML front matter is not a mapping (it declares `configs:`)")
     return loaded
 
 
@@ -70,12 +79,21 @@ def dataset_configs(folder: Path | None = None) -> dict[str, dict[str, tuple[Pat
     if not readme.is_file():
         raise FileNotFoundError(f"{readme}: the dataset is not built (run `talkdem build`)")
     configs: dict[str, dict[str, tuple[Path, ...]]] = {}
-    for config in _front_matter(readme).get("configs", []):
-        splits: dict[str, tuple[Path, ...]] = {}
-        for entry in config["data_files"]:
-            paths = entry["path"] if isinstance(entry["path"], list) else [entry["path"]]
-            splits[entry["split"]] = tuple(root / p for p in paths)
-        configs[config["config_name"]] = splits
+    declared = _front_matter(readme).get("configs", [])
+    if not isinstance(declared, list):
+        raise ValueError(f"{readme}: `configs` in the front matter must be a list")
+    for n, config in enumerate(declared, start=1):
+        try:
+            splits: dict[str, tuple[Path, ...]] = {}
+            for entry in config["data_files"]:
+                paths = entry["path"] if isinstance(entry["path"], list) else [entry["path"]]
+                splits[str(entry["split"])] = tuple(root / str(p) for p in paths)
+            configs[str(config["config_name"])] = splits
+        except (KeyError, TypeError) as exc:
+            raise ValueError(
+                f"{readme}: config {n} of the front matter needs `config_name` and `data_files` entries with "
+                f"`split` and `path` (missing or malformed: {exc})"
+            ) from None
     return configs
 
 
@@ -98,9 +116,17 @@ def _rows(config: str, folder: Path | None) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     for split in sorted(configs[config]):
         for path in configs[config][split]:
-            table = pq.read_table(path)
-            labels = _class_labels(table)
-            for row in table.to_pylist():
+            try:
+                table = pq.read_table(path)
+                labels = _class_labels(table)
+                found = table.to_pylist()
+            except OSError as exc:
+                if exc.strerror:  # a missing or unreadable file: the CLI names it from the OSError
+                    raise
+                raise ValueError(f"{path}: cannot read this Parquet file ({exc}); rebuild or restore it") from None
+            except Exception as exc:  # pyarrow's errors (a corrupted page: "ZSTD decompression failed") name no file
+                raise ValueError(f"{path}: cannot read this Parquet file ({exc}); rebuild or restore it") from None
+            for row in found:
                 rows.append({k: labels[k][v] if k in labels and isinstance(v, int) else v for k, v in row.items()})
     return rows
 

@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import argparse
 import re
+from pathlib import Path
 
-__all__ = ["hub_repo_id", "non_negative_int", "page_link", "positive_int"]
+__all__ = ["bootstrap_count", "folder_path", "hub_repo_id", "non_negative_int", "page_link", "positive_int"]
 
 # The Hub's rule for repository ids: ORG/NAME, letters, digits, '-', '_', '.', no leading/trailing '-'/'.'.
 _REPO_PART = r"[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?"
@@ -34,6 +35,26 @@ def non_negative_int(text: str) -> int:
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be 0 or more, got {value}")
     return value
+
+
+def bootstrap_count(text: str) -> int:
+    """`--bootstrap`: 0 turns the intervals off (said so in the report and on the page); otherwise a count of
+    resamples of at least `MIN_RESAMPLES` (fewer cannot make a 95% percentile interval)."""
+    from talkdem.metrics.stats import check_resamples
+
+    value = _integer(text)
+    try:
+        return check_resamples(value, "the count")
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error).removeprefix("the count ")) from None
+
+
+def folder_path(text: str) -> Path:
+    """An output folder: `''` is refused (as a Path it is `.`, and the command would write into the current
+    folder without having been asked to)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("must name a folder, got an empty string (use '.' for the current folder)")
+    return Path(text)
 
 
 def hub_repo_id(text: str) -> str:

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import positive_int
+from talkdem.cli.arguments import folder_path, positive_int
 
 __all__ = ["register"]
 
@@ -31,7 +31,7 @@ def register(subparsers: Any) -> None:
         "--limit", type=positive_int, help="only the first N benchmark and N memory tasks (a smoke build; needs --out)"
     )
     parser.add_argument("--seed", type=int, default=0, help="build seed (default 0): same seed, same bytes")
-    parser.add_argument("--out", type=Path, help="dataset folder (default: data/ or $TALKDEM_DATA_DIR)")
+    parser.add_argument("--out", type=folder_path, help="dataset folder (default: data/ or $TALKDEM_DATA_DIR)")
     parser.add_argument("--tasks-dir", type=Path, help="folder holding tasks/*.jsonl (default: data/)")
     parser.add_argument("--checkpoint", type=Path, help="JSONL checkpoint (default: .cache/build/...)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")

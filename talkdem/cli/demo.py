@@ -16,7 +16,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import positive_int
+from talkdem.cli.arguments import folder_path, positive_int
 
 __all__ = ["register"]
 
@@ -36,7 +36,9 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("--model", default="default", help="a model name (`talkdem models`) or GGUF file")
     parser.add_argument("--strategies", default="vanilla,care", help="comma-separated strategies")
-    parser.add_argument("--out", type=Path, default=Path("demo_output"), help="folder for runs, report, leaderboard")
+    parser.add_argument(
+        "--out", type=folder_path, default=Path("demo_output"), help="folder for runs, report, leaderboard"
+    )
     parser.add_argument("--threads", type=positive_int, default=2)
     parser.add_argument(
         "--continue-on-new-revision",

@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import non_negative_int, page_link
+from talkdem.cli.arguments import bootstrap_count, folder_path, page_link
 
 __all__ = ["register"]
 
@@ -18,16 +18,27 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("run_dirs", nargs="*", type=Path, metavar="RUN_DIR", help="run directories to score")
     parser.add_argument(
-        "--out", type=Path, default=Path("talkdem_leaderboard"), help="Space folder to write (default: %(default)s)"
+        "--out",
+        type=folder_path,
+        default=Path("talkdem_leaderboard"),
+        help="Space folder to write (default: %(default)s)",
     )
     parser.add_argument("--from-results", type=Path, metavar="DIR", help="also show the results files under DIR")
     parser.add_argument(
-        "--bootstrap", type=non_negative_int, default=1000, help="bootstrap resamples for intervals (0: none)"
+        "--bootstrap",
+        type=bootstrap_count,
+        default=1000,
+        help="bootstrap resamples for the 95%% intervals: 0 (no intervals) or at least 40 (default: %(default)s)",
     )
     parser.add_argument(
         "--viewer", type=page_link, metavar="HREF", help="link the page to the episode viewer (`talkdem view`)"
     )
     parser.set_defaults(handler=run)
+
+
+def _percent(value: float | None) -> str:
+    """A rate as the page shows it (percent, one decimal; `–` where undefined), not the stored fraction."""
+    return "–" if value is None else f"{100 * value:.1f}%"
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,7 +60,11 @@ def run(args: argparse.Namespace) -> int:
             raise FileNotFoundError(f"{args.from_results}: no such results folder")
         fresh = [results_record(r) for r in runs]
         ids = {r["run_id"] for r in fresh}
-        records = [r for r in read_results(args.from_results) if r["run_id"] not in ids] + fresh
+        found = read_results(args.from_results)
+        if not found:
+            # Most likely a wrong folder: a page built from nothing and exit 0 would look like a success.
+            raise FileNotFoundError(f"{args.from_results}: no results files (*.json) under this folder")
+        records = [r for r in found if r["run_id"] not in ids] + fresh
         written = write_space(records, args.out, viewer=args.viewer)
     else:
         written = write_leaderboard(runs, args.out, viewer=args.viewer)
@@ -64,8 +79,8 @@ def run(args: argparse.Namespace) -> int:
         for rank, record in group.ranked:
             main = record["results"]["talkdem"]
             print(
-                f"  {rank}. {record['config']['run_name']}: average SR {main['average_sr']}, "
-                f"average retention {main['average_retention']}, clean SR {main['clean_sr']}"
+                f"  {rank}. {record['config']['run_name']}: average SR {_percent(main['average_sr'])}, "
+                f"average retention {_percent(main['average_retention'])}, clean SR {_percent(main['clean_sr'])}"
             )
     for record in standings.reference:
         print(f"  reference plans (not ranked): {record['config']['run_name']}")

@@ -37,9 +37,19 @@ def register(subparsers: Any) -> None:
 
 
 def _push_leaderboard(args: argparse.Namespace) -> int:
-    from talkdem.leaderboard import publish_results, publish_space, results_upload_plan, space_upload_plan
+    from talkdem.leaderboard import (
+        not_uploaded,
+        publish_results,
+        publish_space,
+        results_upload_plan,
+        space_upload_plan,
+    )
 
     folder: Path = args.leaderboard
+    # What is left out is said before anything is sent, dry run or not: a file a user expected on the Hub
+    # (or a stray one in the folder) must not go unnoticed.
+    for path, why in not_uploaded(folder) if (folder / "README.md").is_file() else []:
+        print(f"skipped {folder / path}: {why}", file=sys.stderr)
     if args.dry_run:
         for path in space_upload_plan(folder):
             print(f"space {args.repo}: {path}")

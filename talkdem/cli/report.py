@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import non_negative_int, page_link
+from talkdem.cli.arguments import bootstrap_count, folder_path, page_link
 
 __all__ = ["register"]
 
@@ -16,7 +16,9 @@ def register(subparsers: Any) -> None:
         "report", help="score run directories: paper tables (md/csv/json), plots and one HTML page"
     )
     parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="run directories to score")
-    parser.add_argument("--out", type=Path, default=Path("talkdem_report"), help="output folder (default: %(default)s)")
+    parser.add_argument(
+        "--out", type=folder_path, default=Path("talkdem_report"), help="output folder (default: %(default)s)"
+    )
     parser.add_argument(
         "--reference-strategy",
         default="CARE",
@@ -24,7 +26,10 @@ def register(subparsers: Any) -> None:
         help="strategy the retention tests compare with (a strategy name or label, e.g. care or CARE)",
     )
     parser.add_argument(
-        "--bootstrap", type=non_negative_int, default=1000, help="bootstrap resamples for intervals (0: none)"
+        "--bootstrap",
+        type=bootstrap_count,
+        default=1000,
+        help="bootstrap resamples for the 95%% intervals: 0 (no intervals) or at least 40 (default: %(default)s)",
     )
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
     parser.add_argument(

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import non_negative_int, positive_int
+from talkdem.cli.arguments import folder_path, non_negative_int, positive_int
 from talkdem.sim.seam import DEFAULT_MAX_STEPS
 
 __all__ = ["register"]
@@ -28,7 +28,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--limit", type=positive_int, help="number of tasks (stratified over task types; default: all 300)"
     )
-    parser.add_argument("--out", type=Path, help="run directory (default: runs/<model>-<strategy>); resumes")
+    parser.add_argument("--out", type=folder_path, help="run directory (default: runs/<model>-<strategy>); resumes")
     parser.add_argument("--max-steps", type=positive_int, default=DEFAULT_MAX_STEPS)
     parser.add_argument("--scoring", choices=["sum", "mean"], default="sum", help="skill score: sum or mean log-prob")
     parser.add_argument(
@@ -126,7 +126,14 @@ def run(args: argparse.Namespace) -> int:
         from talkdem.runs.shards import parse_shard, shard_of
 
         shard = parse_shard(args.shard)
+        selected = len(episodes)
         episodes = shard_of(episodes, shard)
+        if not episodes:
+            # An empty shard would "finish" at once with exit 0, and a merge would then lack nothing it knows of.
+            raise ValueError(
+                f"--shard {shard}: this shard is empty, the selection has only {selected} episode(s); "
+                f"split it into at most {selected} shard(s)"
+            )
         extra["shard"] = str(shard)
     options: dict[str, Any] = {}
     served_options = (
@@ -172,6 +179,10 @@ def run(args: argparse.Namespace) -> int:
             f"{len(urls)} --base-url but --concurrency {args.concurrency}: give --concurrency at least "
             f"{len(urls)} so that every server gets episodes"
         )
+    if args.cache is not None:
+        from talkdem.llm.cache import open_cache
+
+        open_cache(args.cache).close()  # a bad --cache file fails now, not after the model has loaded
     clients = []
     for slot in range(args.concurrency):
         url = urls[slot % len(urls)]

@@ -29,6 +29,8 @@ def run(args: argparse.Namespace) -> int:
     from builders.selection import format_diversity_table, load_diversity
 
     if args.saved:
+        if args.write:
+            raise ValueError("--saved prints the saved table, --write recomputes the selection and writes it: give one")
         print(format_diversity_table(load_diversity()))
         return 0
     from builders.selection import select_tasks, write_selection

@@ -7,7 +7,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import positive_int
+from talkdem.cli.arguments import folder_path, positive_int
 
 __all__ = ["register"]
 
@@ -18,7 +18,7 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a `talkdem run` directory")
     parser.add_argument("--shards", type=positive_int, required=True, metavar="N", help="number of shards (>= 2)")
-    parser.add_argument("--out", type=Path, required=True, help="new or empty folder for OUT/shard-I-of-N")
+    parser.add_argument("--out", type=folder_path, required=True, help="new or empty folder for OUT/shard-I-of-N")
     parser.add_argument(
         "--conditions", help="a larger selection's conditions (default: the run's own; as in `talkdem run`)"
     )

@@ -35,6 +35,8 @@ def task_summary(task: Task) -> dict[str, Any]:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.full and args.format != "jsonl":
+        raise ValueError("--full applies to --format jsonl (the table shows one summary line per task)")
     tasks = load_tasks(args.task_set)
     out = sys.stdout
     if args.format == "jsonl":

@@ -10,6 +10,7 @@ from talkdem.leaderboard.publish import (
     RESULTS_PATTERNS,
     SPACE_PATTERNS,
     check_space_folder,
+    not_uploaded,
     publish_results,
     publish_space,
     results_upload_plan,
@@ -18,6 +19,7 @@ from talkdem.leaderboard.publish import (
 from talkdem.leaderboard.ranking import RANK_KEY, ComparableGroup, Standings, rank_records
 from talkdem.leaderboard.records import RESULTS_SCHEMA, model_dtype, results_record, run_id
 from talkdem.leaderboard.space import SPACE_FRONT_MATTER, read_results, results_path, write_leaderboard, write_space
+from talkdem.leaderboard.validate import ResultsFileError, load_results_file, validate_record
 
 __all__ = [
     "RANK_KEY",
@@ -27,9 +29,12 @@ __all__ = [
     "SPACE_PATTERNS",
     "SUBMIT_STEPS",
     "ComparableGroup",
+    "ResultsFileError",
     "Standings",
     "check_space_folder",
+    "load_results_file",
     "model_dtype",
+    "not_uploaded",
     "publish_results",
     "publish_space",
     "rank_records",
@@ -40,6 +45,7 @@ __all__ = [
     "results_upload_plan",
     "run_id",
     "space_upload_plan",
+    "validate_record",
     "write_leaderboard",
     "write_space",
 ]

@@ -161,7 +161,7 @@ def _row(record: dict[str, Any], rank: int | None) -> str:
     coverage = Coverage.from_json(record["coverage"])
     undefined_ret = "undefined: no task solved under clean"
     tasks, _, conditions = coverage.describe().partition(" × ")
-    cells = [f'<td class="num rank" data-v="{rank}">{rank}</td>'] if rank is not None else []
+    cells = [f'<td class="num rank" data-v="{int(rank)}">{int(rank)}</td>'] if rank is not None else []
     cells += [
         _model(config),
         _two_lines(strategy_label(config["strategy"]), config["planner"]),
@@ -174,9 +174,10 @@ def _row(record: dict[str, Any], rank: int | None) -> str:
         found = record["results"][f"talkdem_{pattern}"]
         cells.append(_num(found["sr"], intervals.get(f"{pattern}_sr"), "undefined: pattern not run"))
         cells.append(_num(found["retention"], intervals.get(f"{pattern}_retention"), undefined_ret))
-    cells += [
-        f'<td class="num" data-v="{main["hazard_cases"]}">{main["hazard_cases"]}</td>',
-    ]
+    # Escaped like every other value: a results file from elsewhere may hold anything (it is validated on
+    # read, but the page does not rely on that).
+    hazards = html.escape(str(main["hazard_cases"]), quote=True)
+    cells += [f'<td class="num" data-v="{hazards}">{hazards}</td>']
     return f'<tr data-run="{html.escape(record["run_id"], quote=True)}">' + "".join(cells) + "</tr>"
 
 

@@ -20,6 +20,7 @@ from typing import Any
 from talkdem.leaderboard.page import SUBMIT_STEPS, render_html
 from talkdem.leaderboard.ranking import RANK_KEY, rank_records
 from talkdem.leaderboard.records import RESULTS_SCHEMA, results_record
+from talkdem.leaderboard.validate import ResultsFileError, load_results_file
 from talkdem.report.coverage import Coverage
 from talkdem.report.runs import ScoredRun, strategy_label
 from talkdem.report.tables import markdown_cell, markdown_text
@@ -40,6 +41,9 @@ SPACE_FRONT_MATTER = {
 }
 
 
+_SAFE_ID = re.compile(r"[A-Za-z0-9_-]{1,64}")
+
+
 def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9._-]+", "_", text).strip("_.") or "model"
 
@@ -48,19 +52,24 @@ def results_path(record: dict[str, Any]) -> Path:
     """`<model>/results_<date>_<run id>.json`: the run id keeps runs apart whose names differ only in
     punctuation; the same run always lands on the same file."""
     created = re.sub(r"[^0-9T]+", "-", record["config"].get("created", "")[:19]).strip("-") or "undated"
+    if not isinstance(record["run_id"], str) or not _SAFE_ID.fullmatch(record["run_id"]):
+        # Checked again here, whoever built the record: the id is part of the path written under --out.
+        raise ResultsFileError(f"run_id {record['run_id']!r}: not a results id (letters, digits, '-', '_')")
     return Path(_slug(record["config"]["model_name"])) / f"results_{created}_{record['run_id']}.json"
 
 
 def read_results(folder: Path) -> list[dict[str, Any]]:
-    """Every results record under `folder` (recursively); files of another schema are an error naming them."""
-    records = []
+    """Every results record under `folder` (recursively), each checked against the schema
+    (`talkdem.leaderboard.validate`); a bad file is an error naming it (as `folder/relative path`) and its
+    first bad field. Two files with the same `run_id` are refused: one run would be shown twice."""
+    records: list[dict[str, Any]] = []
+    seen: dict[str, str] = {}
     for path in sorted(folder.rglob("*.json")):
-        try:
-            record = json.loads(path.read_text(encoding="utf-8"))
-        except json.JSONDecodeError as exc:
-            raise ValueError(f"{path.name}: not JSON ({exc.msg})") from exc
-        if not isinstance(record, dict) or record.get("schema") != RESULTS_SCHEMA:
-            raise ValueError(f"{path.relative_to(folder)}: not a {RESULTS_SCHEMA} results file")
+        shown = str(folder / path.relative_to(folder))
+        record = load_results_file(path, shown)
+        if record["run_id"] in seen:
+            raise ResultsFileError(f"{shown}: run_id {record['run_id']} is also in {seen[record['run_id']]}")
+        seen[record["run_id"]] = shown
         records.append(record)
     return records
 

@@ -20,7 +20,7 @@ from typing import Any, TypeVar
 from talkdem.llm.base import BestContinuation, LanguageModel
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
-__all__ = ["CachedLM", "cache_key"]
+__all__ = ["CacheFileError", "CachedLM", "cache_key", "open_cache"]
 
 _T = TypeVar("_T")
 _LOOKUP_CHUNK = 500  # well under SQLite's limit on bound parameters
@@ -30,6 +30,39 @@ def cache_key(identity_key: str, method: str, fields: Sequence[Any]) -> str:
     """sha256 of the JSON of (model identity, method, request fields)."""
     blob = json.dumps([identity_key, method, list(fields)], ensure_ascii=False, separators=(",", ":"))
     return hashlib.sha256(blob.encode()).hexdigest()
+
+
+class CacheFileError(ValueError):
+    """The `--cache` file cannot serve as a result cache: a folder, not SQLite, or corrupted."""
+
+
+def _unusable(path: Path, exc: BaseException) -> CacheFileError:
+    return CacheFileError(
+        f"{path}: not a usable SQLite result cache ({type(exc).__name__}: {exc}); give --cache a new file name "
+        "(a cache only saves time: a fresh one recomputes what it held)"
+    )
+
+
+def open_cache(path: Path) -> sqlite3.Connection:
+    """The cache database at `path` (created if missing), checked: a folder, a file that is not SQLite or a
+    damaged one is a `CacheFileError` naming the file, before any model work (not mid-run)."""
+    if path.is_dir():
+        raise CacheFileError(f"{path}: is a folder; --cache takes a file (e.g. {path / 'cache.sqlite'})")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        db = sqlite3.connect(str(path), check_same_thread=False)
+        db.execute("PRAGMA journal_mode=WAL")
+        db.execute("CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, value TEXT NOT NULL)")
+        db.commit()
+        # A file that is SQLite only in its header, or damaged further in, fails here.
+        with closing(db.execute("PRAGMA quick_check")) as cursor:
+            verdict = [str(row[0]) for row in cursor]
+    except sqlite3.Error as exc:
+        raise _unusable(path, exc) from None
+    if verdict != ["ok"]:
+        db.close()
+        raise _unusable(path, sqlite3.DatabaseError("; ".join(verdict)[:200]))
+    return db
 
 
 class CachedLM(LanguageModel):
@@ -45,14 +78,10 @@ class CachedLM(LanguageModel):
         self.identity = inner.identity
         self.supports_loglikelihood = inner.supports_loglikelihood
         self.path = Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
         self.hits = 0
         self.misses = 0
         self._lock = threading.Lock()
-        self._db = sqlite3.connect(str(self.path), check_same_thread=False)
-        self._db.execute("PRAGMA journal_mode=WAL")
-        self._db.execute("CREATE TABLE IF NOT EXISTS results (key TEXT PRIMARY KEY, value TEXT NOT NULL)")
-        self._db.commit()
+        self._db = open_cache(self.path)
 
     # -- the interface --------------------------------------------------------------------------------
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
@@ -141,20 +170,26 @@ class CachedLM(LanguageModel):
         found: dict[str, Any] = {}
         unique = list(dict.fromkeys(keys))
         with self._lock:
-            for chunk in _chunks(unique, _LOOKUP_CHUNK):
-                placeholders = ",".join("?" * len(chunk))
-                query = f"SELECT key, value FROM results WHERE key IN ({placeholders})"
-                with closing(self._db.execute(query, chunk)) as cursor:
-                    found.update((key, json.loads(value)) for key, value in cursor)
+            try:
+                for chunk in _chunks(unique, _LOOKUP_CHUNK):
+                    placeholders = ",".join("?" * len(chunk))
+                    query = f"SELECT key, value FROM results WHERE key IN ({placeholders})"
+                    with closing(self._db.execute(query, chunk)) as cursor:
+                        found.update((key, json.loads(value)) for key, value in cursor)
+            except (sqlite3.Error, json.JSONDecodeError) as exc:
+                raise _unusable(self.path, exc) from None
         return found
 
     def _store(self, entries: dict[str, Any]) -> None:
         with self._lock:
-            self._db.executemany(
-                "INSERT OR REPLACE INTO results (key, value) VALUES (?, ?)",
-                [(key, json.dumps(value)) for key, value in entries.items()],
-            )
-            self._db.commit()
+            try:
+                self._db.executemany(
+                    "INSERT OR REPLACE INTO results (key, value) VALUES (?, ?)",
+                    [(key, json.dumps(value)) for key, value in entries.items()],
+                )
+                self._db.commit()
+            except sqlite3.Error as exc:
+                raise _unusable(self.path, exc) from None
 
 
 def _chunks(items: Sequence[str], size: int) -> Iterator[list[str]]:

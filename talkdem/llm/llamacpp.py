@@ -1,4 +1,4 @@
-"""llama.cpp in process (llama-cpp-python, the optional extra `talkdem[llamacpp]`): GGUF files on CPU.
+"""llama.cpp in process (llama-cpp-python, the optional extra `llamacpp`): GGUF files on CPU.
 
 Prompt log-likelihoods are read from the logits of every evaluated position (`logits_all=True`), never
 from `create_completion(echo=True, logprobs=...)`, which is off by one position for models without a BOS
@@ -34,9 +34,12 @@ from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
 __all__ = ["LlamaCppLM"]
 
+# TALK-Dem is not on PyPI, so `pip install 'talkdem[llamacpp]'` finds nothing: name what works (the extra's
+# one requirement, from pyproject.toml; or the extra of a checkout or of the wheel file).
 _MISSING = (
-    "llama-cpp-python is not installed: install the optional extra with `pip install -e '.[llamacpp]'` "
-    "(or `pip install 'talkdem[llamacpp]'`; it compiles llama.cpp, about 5-6 minutes on 2 cores)"
+    "llama-cpp-python is not installed (the `llamacpp` extra): `pip install 'llama-cpp-python[server]>=0.3.7'`, "
+    "or from a checkout `pip install -e '.[llamacpp]'`, or with the wheel `pip install 'PATH/TO/talkdem-VERSION-"
+    "py3-none-any.whl[llamacpp]'`; it compiles llama.cpp, about 5-6 minutes on 2 cores"
 )
 
 _GGML_TYPE_F32 = 0  # ggml_type enum value of float32

@@ -329,6 +329,10 @@ class OpenAICompatibleLM(LanguageModel):
             raise _Retryable(f"{type(error).__name__}: {error}") from error
         try:
             parsed = json.loads(raw)
+        except UnicodeDecodeError as error:  # json.loads decodes bytes as UTF-8/16/32 before parsing
+            raise _Retryable(
+                f"an answer that is not UTF-8 text (byte {error.start}: {raw[error.start : error.start + 8]!r})"
+            ) from error
         except json.JSONDecodeError as error:
             raise _Retryable(f"an answer that is not JSON: {raw[:200]!r}") from error
         if not isinstance(parsed, expect):

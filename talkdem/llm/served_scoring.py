@@ -28,9 +28,11 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 __all__ = [
+    "LOGPROB_TOLERANCE",
     "PromptFormat",
     "ScoringProtocolError",
     "ScoringRequest",
+    "checked_logprob",
     "completions_body",
     "read_completions_choice",
     "read_sglang_item",
@@ -75,6 +77,28 @@ def _echo_text(token: object) -> str:
     return token if isinstance(token, str) else ""
 
 
+LOGPROB_TOLERANCE = 1e-4
+"""How far above 0 a served log-probability may be and still count as 0. A server computes log-softmax in
+float32 (vLLM, SGLang): for a token of probability ~1 the result `x - logsumexp(x)` is 0 up to the rounding
+of numbers the size of the logits (~1e-6 for logits of tens). Anything larger is no rounding: a probability
+above 1, a server bug or a forged answer; it would also break branch and bound, which relies on partial
+sums never growing (so values within the tolerance are counted as exactly 0)."""
+
+
+def checked_logprob(value: Any, where: str, what: str) -> float:
+    """`value` as a log-probability: a finite number, at most 0 (within `LOGPROB_TOLERANCE`), else one
+    `ScoringProtocolError` line naming `where` and `what`."""
+    if not isinstance(value, int | float) or isinstance(value, bool) or math.isnan(value):
+        raise ScoringProtocolError(f"{where}: {what} is {value!r}: not a number")
+    if not math.isfinite(value):
+        raise ScoringProtocolError(f"{where}: {what} is {value!r}: a log-probability must be finite")
+    if value > LOGPROB_TOLERANCE:
+        raise ScoringProtocolError(
+            f"{where}: {what} is {value!r}: a log-probability is at most 0 (a probability above 1)"
+        )
+    return min(float(value), 0.0)
+
+
 def read_completions_choice(choice: dict[str, Any], request: ScoringRequest, piece: Any, where: str) -> float:
     """The continuation's summed log-probability from one echoed choice, after checking its alignment.
 
@@ -111,13 +135,7 @@ def read_completions_choice(choice: dict[str, Any], request: ScoringRequest, pie
                 f"{where}: the server echoed {echoed!r} where the continuation {expected!r} should be: its "
                 "tokens are not ours (another tokenizer, or a split across the context boundary)"
             )
-    total = 0.0
-    for k in span:
-        value = values[k]
-        if not isinstance(value, int | float) or isinstance(value, bool) or math.isnan(value):
-            raise ScoringProtocolError(f"{where}: echoed log-probability {value!r} at token {k} is not a number")
-        total += float(value)
-    return total
+    return sum(checked_logprob(values[k], where, f"echoed log-probability at token {k}") for k in span)
 
 
 def _plain(text: str) -> str:
@@ -157,7 +175,5 @@ def read_sglang_item(item: Any, request: ScoringRequest, where: str) -> float:
         value, token = entry[0], entry[1]
         if token != want[k]:
             raise ScoringProtocolError(f"{where}: entry {k} is token {token}, the continuation has {want[k]}")
-        if not isinstance(value, int | float) or isinstance(value, bool) or math.isnan(value):
-            raise ScoringProtocolError(f"{where}: log-probability {value!r} of entry {k} is not a number")
-        total += float(value)
+        total += checked_logprob(value, where, f"log-probability of entry {k}")
     return total

@@ -30,6 +30,7 @@ if TYPE_CHECKING:
 __all__ = [
     "EpisodeResult",
     "ScoringInputError",
+    "check_predictions",
     "execute_plans",
     "instruction_index",
     "pair_predictions",
@@ -187,6 +188,21 @@ def pair_predictions(predictions: Sequence[object], references: Sequence[object]
     if duplicated:
         raise ScoringInputError("duplicate instruction ids (two plans for one instruction)", duplicated)
     return {str(r): p for r, p in zip(references, predictions, strict=True)}
+
+
+def check_predictions(predictions: object, references: object) -> None:
+    """The evaluate interface's inputs as given, before anything casts them: `predictions` a list of plans
+    (each a list of skill strings), `references` a list of id strings of the same length. A
+    `ScoringInputError` names the ids whose plans are not lists of strings (a nested step `[["find a box"]]`
+    would otherwise be cast to the one skill "['find a box']" and scored as a failed step)."""
+    for name, value in (("predictions", predictions), ("references", references)):
+        if isinstance(value, str | bytes) or not isinstance(value, Sequence):
+            raise ScoringInputError(f"{name} must be a list, got {type(value).__name__}", [])
+    assert isinstance(predictions, Sequence) and isinstance(references, Sequence)
+    plans = pair_predictions(predictions, references)
+    bad = [i for i, plan in plans.items() if as_plan(plan) is None]
+    if bad:
+        raise ScoringInputError("plans must be lists of skill strings; these are not", bad)
 
 
 def results_from_run(run_dir: Path, *, run: str = "") -> list[EpisodeResult]:

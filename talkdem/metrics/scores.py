@@ -21,7 +21,7 @@ from talkdem.metrics.errors import ErrorType, classify_error
 from talkdem.metrics.hazards import HazardCounts, introduced_hazards
 from talkdem.metrics.length import PlanLengthRow, plan_length_pairs
 from talkdem.metrics.rates import MEASURES, measures, outcome_matrix, task_retention
-from talkdem.metrics.stats import BOOTSTRAP_SEED, TestResult, bootstrap_ci, paired_ttest
+from talkdem.metrics.stats import BOOTSTRAP_SEED, TestResult, bootstrap_ci, check_resamples, paired_ttest
 from talkdem.schema import CLEAN, CONDITIONS, PATTERN_CONFIGS, Condition
 from talkdem.sim import DEFAULT_MAX_STEPS
 
@@ -168,7 +168,9 @@ def compute_scores(
     seed: int = BOOTSTRAP_SEED,
     classify_errors: bool = True,
 ) -> Scores:
-    """Every measurement of `results` (episodes of one run, or pooled runs told apart by `run`)."""
+    """Every measurement of `results` (episodes of one run, or pooled runs told apart by `run`).
+    `bootstrap`: 0 (no intervals) or at least `MIN_RESAMPLES` resamples; anything else is a `ValueError`."""
+    bootstrap = check_resamples(bootstrap)
     if not results:
         raise ScoringInputError("no episodes to score (the input is empty)", [])
     if retention:
@@ -235,6 +237,7 @@ def score_plans(
 
     Raises `ScoringInputError` (a ValueError naming the ids) on empty input, unknown ids, plans that are
     not lists of strings, and, when `retention` is set, pattern ids whose task has no clean plan."""
+    check_resamples(bootstrap)  # before executing anything
     results = execute_plans(plans, max_steps=max_steps)
     return compute_scores(results, retention=retention, bootstrap=bootstrap, seed=seed)
 
@@ -248,6 +251,7 @@ def score_predictions(
     seed: int = BOOTSTRAP_SEED,
 ) -> Scores:
     """`score_plans` for parallel lists (plans, instruction ids), paired by id, not by position."""
+    check_resamples(bootstrap)  # before executing anything
     plans = pair_predictions(predictions, references)
     results = execute_plans(plans)
     return compute_scores(results, retention=retention, bootstrap=bootstrap, seed=seed)
@@ -255,6 +259,7 @@ def score_predictions(
 
 def score_run(run_dir: Path, *, retention: bool = True, bootstrap: int = 1000, seed: int = BOOTSTRAP_SEED) -> Scores:
     """Score a run directory from its stored outcomes (`talkdem verify-run` re-executes them)."""
+    check_resamples(bootstrap)
     return compute_scores(results_from_run(run_dir), retention=retention, bootstrap=bootstrap, seed=seed)
 
 

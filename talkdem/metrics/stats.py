@@ -12,7 +12,16 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["BOOTSTRAP_SEED", "TestResult", "bootstrap_ci", "clustered_mean_test", "paired_ttest", "stars"]
+__all__ = [
+    "BOOTSTRAP_SEED",
+    "MIN_RESAMPLES",
+    "TestResult",
+    "bootstrap_ci",
+    "check_resamples",
+    "clustered_mean_test",
+    "paired_ttest",
+    "stars",
+]
 
 BOOTSTRAP_SEED = 20240917
 """Fixed so that the same episodes always give the same intervals."""
@@ -89,6 +98,31 @@ def clustered_mean_test(differences: Sequence[float], clusters: Sequence[str]) -
     return TestResult(mean, statistic, p_value, n, g)
 
 
+MIN_RESAMPLES = 40
+"""The fewest resamples a 95% percentile interval is made from: each 2.5% tail then holds at least one
+resample (40 x 2.5% = 1). With fewer, `nanpercentile` interpolates between the two most extreme resamples
+and the "interval" is an artefact of the count, which would be published as a 95% interval."""
+
+
+def check_resamples(value: object, name: str = "bootstrap") -> int:
+    """`value` as a bootstrap resample count: 0 (no intervals, the documented off switch) or a whole number
+    of at least `MIN_RESAMPLES`; a `ValueError` naming `name` otherwise (a bool, 2.5 or -5 included)."""
+    import numbers
+
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise ValueError(
+            f"{name} must be a whole number of resamples (0: no intervals, or at least {MIN_RESAMPLES}), "
+            f"got {value!r} ({type(value).__name__})"
+        )
+    count = int(value)
+    if count != 0 and count < MIN_RESAMPLES:
+        raise ValueError(
+            f"{name} must be 0 (no intervals) or at least {MIN_RESAMPLES} resamples (a 95% interval needs one "
+            f"resample in each 2.5% tail), got {count}"
+        )
+    return count
+
+
 def bootstrap_ci(
     rows: NDArray[np.float64],
     statistic: Callable[[NDArray[np.float64]], NDArray[np.float64]],
@@ -101,6 +135,8 @@ def bootstrap_ci(
 
     `statistic` maps an array of shape (B, n, ...) to (B, k) (one value per resample and quantity);
     returns (low, high), each of shape (k,). NaN quantities (undefined in a resample) are ignored."""
+    if check_resamples(resamples, "resamples") == 0:
+        raise ValueError(f"resamples must be at least {MIN_RESAMPLES} for an interval, got 0")
     n = rows.shape[0]
     rng = np.random.default_rng(seed)
     values = np.empty((0,))

@@ -8,6 +8,7 @@ from pathlib import Path
 
 from talkdem.paths import data_dir
 from talkdem.planner.prompt import Demonstration
+from talkdem.plans import as_plan
 
 __all__ = ["examples_file", "task_type_examples"]
 
@@ -21,5 +22,20 @@ def task_type_examples(folder: Path | None = None) -> tuple[Demonstration, ...]:
     path = examples_file(folder)
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no planner examples (build them with builders/planner_examples.py)")
-    rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
-    return tuple(Demonstration(row["instruction"], tuple(row["reference_plan"])) for row in rows)
+    examples = []
+    for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+        if not line.strip():
+            continue
+        try:
+            row = json.loads(line)
+        except json.JSONDecodeError as exc:
+            raise ValueError(f"{path}:{number}: not a JSON line ({exc.msg}, column {exc.colno})") from None
+        instruction = row.get("instruction") if isinstance(row, dict) else None
+        plan = as_plan(row.get("reference_plan")) if isinstance(row, dict) else None
+        if not isinstance(instruction, str) or plan is None:
+            raise ValueError(
+                f"{path}:{number}: an example needs 'instruction' (a string) and 'reference_plan' (a list of skill "
+                "strings)"
+            )
+        examples.append(Demonstration(instruction, plan))
+    return tuple(examples)

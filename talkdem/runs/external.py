@@ -10,15 +10,26 @@ from talkdem.instructions import Instruction, load_instructions
 from talkdem.plans import Plan, check_plan
 from talkdem.runs.episode import play_plan
 from talkdem.runs.records import RunHeader
-from talkdem.runs.store import EpisodeWriter, finish_status, open_run, run_lock, set_status
+from talkdem.runs.store import (
+    HEADER_FILE,
+    EpisodeWriter,
+    finish_status,
+    open_run,
+    read_episodes,
+    read_header,
+    run_lock,
+    set_status,
+)
 from talkdem.schema import parse_instruction_id
 from talkdem.serialization import parse_json
 
 __all__ = ["EXTERNAL_RESUME_KEYS", "plans_digest", "read_plan_file", "score_plan_file", "score_plans"]
 
-# A scored run resumes only with the same plans from the same system (the digest covers every plan) on the
-# same input files (the tasks the plans execute on, the instructions).
-EXTERNAL_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash", "config.plans_sha256", "inputs")
+# A scored run is resumed or extended by the same system on the same dataset and input files (the tasks the
+# plans execute on, the instructions). Which plans it holds is checked per episode instead of by one digest
+# (an episode already in the run must come again with the same plan), so a second plan file can add
+# episodes; the header's `plans_sha256` then covers every plan in the run.
+EXTERNAL_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash", "inputs")
 
 
 def read_plan_file(path: Path) -> dict[str, Plan]:
@@ -78,10 +89,13 @@ def score_plans(
     model: str = "",
     version: str = "",
 ) -> int:
-    """Execute every plan into `run_dir` (planner `external`), resuming a run killed part-way with the
-    same plans; returns the number of episodes in the run. `source` names where the plans came from
-    (a file name, never a machine path: the header is published). A run started on another code revision
-    is resumed only with `new_revision_ok` (both revisions are recorded). `model` and `version` name what the
+    """Execute every plan into `run_dir` (planner `external`); returns the number of episodes in the run.
+
+    An existing run of the same system is resumed (a run killed part-way) or extended (a second plan file
+    with more episodes): episodes already there are kept, and must come with the plan they were scored
+    with, new ones are executed and appended. `source` names where the plans came from (a file name, never
+    a machine path: the header is published). A run started on another code revision is resumed only with
+    `new_revision_ok` (both revisions are recorded). `model` and `version` name what the
     system ran on and which version of it wrote the plans (recorded; a new version is another run)."""
     from talkdem.runs.spec import input_hashes
 
@@ -89,20 +103,33 @@ def score_plans(
     unknown = [episode_id for episode_id in plans if episode_id not in by_id]
     if unknown:
         raise ValueError(f"unknown episode ids: {', '.join(unknown[:5])}")
-    header = RunHeader.new(
-        model={"backend": "external", "name": system_name, "revision": version},
-        planner="external",
-        strategy=strategy,
-        prompt_version="",
-        config={
-            "agent": {"name": system_name, "model": model, "strategy": strategy, "version": version},
-            "plans": source,
-            "plans_sha256": plans_digest(plans),
-            "planned_episodes": len(plans),
-        },
-        inputs=input_hashes(planner=False),
-    )
     with run_lock(run_dir):
+        stored: dict[str, Plan] = {}
+        sources = [source] if source else []
+        if (run_dir / HEADER_FILE).exists():
+            stored = {episode.episode_id: episode.plan for episode in read_episodes(run_dir, repair=True)}
+            earlier = read_header(run_dir).config.get("plans", "")
+            sources = [*str(earlier).split(", "), *sources] if earlier else sources
+        changed = [i for i, plan in plans.items() if i in stored and tuple(stored[i]) != tuple(plan)]
+        if changed:
+            raise ValueError(
+                f"{run_dir}: {len(changed)} episode(s) already in the run with another plan (its plans_sha256 "
+                f"covers each plan once; score changed plans into a new --out): {', '.join(changed[:3])}"
+            )
+        everything = {**stored, **plans}
+        header = RunHeader.new(
+            model={"backend": "external", "name": system_name, "revision": version},
+            planner="external",
+            strategy=strategy,
+            prompt_version="",
+            config={
+                "agent": {"name": system_name, "model": model, "strategy": strategy, "version": version},
+                "plans": ", ".join(dict.fromkeys(sources)),
+                "plans_sha256": plans_digest(everything),
+                "planned_episodes": len(everything),
+            },
+            inputs=input_hashes(planner=False),
+        )
         opened = open_run(run_dir, header, EXTERNAL_RESUME_KEYS, new_revision_ok=new_revision_ok)
         done = {episode.episode_id for episode in opened}
         try:
@@ -115,8 +142,8 @@ def score_plans(
         except BaseException:
             set_status(run_dir, "incomplete")
             raise
-        finish_status(run_dir, list(plans))
-    return len(plans)
+        finish_status(run_dir, list(everything))
+    return len(everything)
 
 
 def score_plan_file(

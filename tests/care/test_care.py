@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ast
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -65,3 +66,19 @@ def test_nothing_at_run_time_imports_the_builders(package: str) -> None:
         and any(name == "builders" or name.startswith("builders.") for name in _imported_modules(path))
     ]
     assert offenders == []
+
+
+def test_an_encoder_passed_in_is_never_cached_under_minilms_name(tmp_path: Path, monkeypatch: Any) -> None:
+    """A stand-in encoder (tests, a user's own) once wrote its vectors to disk under MiniLM's name, and every
+    later CARE run on the machine read them: nothing it computes may reach the cache."""
+    from care.strategy import ContextAwareRetrieval
+
+    monkeypatch.setenv("TALKDEM_CACHE_DIR", str(tmp_path))
+    memory = load_memory_bank()[:8]
+
+    def constant(texts: Any) -> Any:
+        return np.ones((len(texts), 7)) / np.sqrt(7)
+
+    care = ContextAwareRetrieval(memory=memory, encode=constant)
+    assert care.embeddings.shape == (8, 7)
+    assert list(tmp_path.rglob("*")) == []

@@ -39,8 +39,8 @@ def _fails(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
         (["run", "--backend", "openai", "--model", "m", "--threads", "2"], "--threads applies to the hf and llamacpp"),
         (["build", "--limit", "-1"], "--limit: must be at least 1"),
         (["push", "--repo", "not a repo", "--dry-run"], "is not a Hub repository id"),
-        (["report", "x", "--bootstrap", "-5"], "--bootstrap: must be 0 or more, got -5"),
-        (["leaderboard", "x", "--bootstrap", "-5"], "--bootstrap: must be 0 or more, got -5"),
+        (["report", "x", "--bootstrap", "-5"], "--bootstrap: must be 0 (no intervals) or at least 40"),
+        (["leaderboard", "x", "--bootstrap", "-5"], "--bootstrap: must be 0 (no intervals) or at least 40"),
         (["report", "x", "--reference-strategy", "magic"], "unknown strategy 'magic'"),
         (["push", "--repo", "org/name/extra", "--dry-run"], "is not a Hub repository id"),
     ],
@@ -110,3 +110,94 @@ def test_an_unreachable_server(tmp_path: Path, capsys: pytest.CaptureFixture[str
     ]  # fmt: skip
     error = _fails(argv, capsys)
     assert "127.0.0.1:9" in error
+
+
+# -- every error names its file (and line where there is one) -------------------------------------------------
+def _data_copy(tmp_path: Path) -> Path:
+    import shutil
+
+    from talkdem.paths import data_dir
+
+    copy = tmp_path / "data"
+    shutil.copytree(data_dir(), copy)
+    return copy
+
+
+def test_a_cache_that_is_a_folder_or_not_sqlite_names_the_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    served = ["--backend", "openai", "--base-url", "http://127.0.0.1:9/v1", "--model", "m", "--planner", "generative"]
+    argv = ["run", *served, "--limit", "1", "--conditions", "clean", "--out", str(tmp_path / "r"), "--no-progress"]
+    error = _fails([*argv, "--cache", str(tmp_path)], capsys)
+    assert f"{tmp_path}: is a folder; --cache takes a file" in error
+    corrupt = tmp_path / "cache.sqlite"
+    corrupt.write_bytes(b"SQLite format 3\x00" + bytes(range(256)) * 40)
+    error = _fails([*argv, "--cache", str(corrupt)], capsys)
+    assert f"{corrupt}: not a usable SQLite result cache" in error and "unexpected" not in error
+    assert "127.0.0.1:9" not in error, "refused before any model work"
+
+
+def test_bad_yaml_in_the_dataset_card_names_the_file_and_line(tmp_path: Path) -> None:
+    from talkdem.instructions import dataset_configs
+
+    copy = _data_copy(tmp_path)
+    lines = (copy / "README.md").read_text().splitlines()
+    bad_line = next(i for i, line in enumerate(lines) if line.startswith("configs:")) + 2
+    lines[bad_line - 1] = "  data_files: [unclosed"
+    (copy / "README.md").write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match="does not parse") as refused:
+        dataset_configs(copy)
+    assert str(refused.value).startswith(f"{copy / 'README.md'}:")
+    (copy / "README.md").write_text("---\nconfigs:\n- name: x\n---\n")
+    with pytest.raises(ValueError, match=r"README\.md: config 1 of the front matter needs `config_name`"):
+        dataset_configs.__wrapped__(copy)
+
+
+def test_a_broken_worked_examples_line_names_the_file_and_line(tmp_path: Path) -> None:
+    from talkdem.planner.examples import task_type_examples
+
+    copy = _data_copy(tmp_path)
+    path = copy / "prompts" / "saycan_examples.jsonl"
+    lines = path.read_text().splitlines()
+    lines[2] = lines[2][:-5]  # a truncated line
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=r"saycan_examples\.jsonl:3: not a JSON line"):
+        task_type_examples(copy)
+    lines[2] = json.dumps({"instruction": "x", "reference_plan": "find a box"})
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=r"saycan_examples\.jsonl:3: an example needs"):
+        task_type_examples.__wrapped__(copy)
+
+
+def test_a_corrupted_parquet_page_names_the_file(tmp_path: Path) -> None:
+    from talkdem.instructions import load_instructions
+
+    copy = _data_copy(tmp_path)
+    target = copy / "intrusion" / "level_2.parquet"
+    data = bytearray(target.read_bytes())
+    middle = len(data) // 3
+    data[middle : middle + 64] = bytes(64)  # inside a data page, far from the footer
+    target.write_bytes(bytes(data))
+    with pytest.raises(ValueError, match="cannot read this Parquet file") as refused:
+        load_instructions(copy)
+    assert str(refused.value).startswith(str(target))
+
+
+# -- no flag is silently ignored --------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["select", "--saved", "--write"], "--saved prints the saved table, --write recomputes"),
+        (["tasks", "--full", "--format", "table"], "--full applies to --format jsonl"),
+        (["tasks", "--full"], "--full applies to --format jsonl"),
+        (["build", "--out", ""], "--out: must name a folder, got an empty string"),
+        (["report", "x", "--out", " "], "--out: must name a folder"),
+        (["run", "--limit", "1", "--conditions", "clean", "--shard", "5/9"], "--shard 5/9: this shard is empty"),
+    ],
+)
+def test_flags_that_would_be_ignored_are_refused(
+    argv: list[str], message: str, capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    before = sorted(Path.cwd().iterdir())
+    assert message in _fails(argv, capsys)
+    assert sorted(Path.cwd().iterdir()) == before, "nothing written into the current folder"

@@ -5,26 +5,15 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 import subprocess
 import sys
 import zipfile
 from pathlib import Path
 
 import pytest
+from wheel_helpers import PIP, build_wheel
 
 from talkdem.paths import repo_root
-
-
-def _project_files() -> list[str]:
-    listed = subprocess.run(
-        ["git", "ls-files", "--cached", "--others", "--exclude-standard"],
-        cwd=repo_root(),
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout.splitlines()
-    return [name for name in listed if (repo_root() / name).is_file()]
 
 
 @pytest.fixture(scope="module")
@@ -33,15 +22,8 @@ def installed(tmp_path_factory: pytest.TempPathFactory) -> Path:
     with --no-deps into its own folder: the dependencies come from this environment, the code and data
     only from the wheel."""
     root = tmp_path_factory.mktemp("wheel")
-    source = root / "source"
-    for name in _project_files():
-        (source / name).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(repo_root() / name, source / name)
-    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "--quiet"]
-    subprocess.run(
-        [*pip, "wheel", "--no-deps", "--no-build-isolation", "-w", str(root / "dist"), str(source)], check=True
-    )
-    (wheel,) = (root / "dist").glob("talkdem-*.whl")
+    wheel = build_wheel(root)
+    pip = PIP
     names = zipfile.ZipFile(wheel).namelist()
     for needed in (
         "talk_dem.py",
