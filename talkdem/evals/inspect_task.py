@@ -107,9 +107,15 @@ def goal_check(max_steps: int = DEFAULT_MAX_STEPS) -> Any:
 
 
 @task
-def talkdem(conditions: str = "clean", limit: int | None = None, max_steps: int = DEFAULT_MAX_STEPS) -> Task:
-    """The episodes of `talkdem episodes --conditions C --limit N`, one sample each."""
+def talkdem(
+    conditions: str | list[str] = "clean", limit: int | None = None, max_steps: int = DEFAULT_MAX_STEPS
+) -> Task:
+    """The episodes of `talkdem episodes --conditions C --limit N`, one sample each (`-T conditions=a,b`
+    reaches here as a list: inspect splits task arguments at commas)."""
     from talkdem.env import select
+
+    if isinstance(conditions, list):
+        conditions = ",".join(str(c) for c in conditions)
 
     samples = [
         Sample(
