@@ -1,12 +1,14 @@
-"""Property tests: random skill sequences on real tasks never raise and keep the state consistent."""
+"""Property tests: random skill sequences on real tasks never raise while the episode is open, keep the state
+consistent, and a step after the episode ended (`done`, the step limit) is refused."""
 
 from __future__ import annotations
 
+import pytest
 from helpers import all_tasks
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from talkdem.sim import EndReason, Episode, SimState
+from talkdem.sim import EndReason, Episode, EpisodeOverError, SimState
 from talkdem.skills import vocabulary
 
 TASKS = all_tasks()[::20]  # 20 tasks across every task type and both sets
@@ -38,6 +40,10 @@ def test_random_plans_keep_invariants(task_index: int, plan: list[str]) -> None:
     episode = Episode(task)
     _check_invariants(episode.state)
     for text in plan:
+        if episode.over:
+            with pytest.raises(EpisodeOverError):
+                episode.step(text)
+            break
         record = episode.step(text)
         assert record.ok or record.message
         _check_invariants(episode.state)
@@ -51,5 +57,7 @@ def test_reference_steps_mixed_with_noise_never_raise(task_index: int, plan: lis
     task = TASKS[task_index]
     episode = Episode(task)
     for text in [*task.reference_plan[:4], *plan]:
+        if episode.over:  # `done` ends it: a further step is refused, not executed
+            break
         episode.step(text)
         _check_invariants(episode.state)
