@@ -36,7 +36,33 @@ def register(subparsers: Any) -> None:
         default="scoring",
         help="generative: for chat endpoints without prompt log-likelihoods",
     )
-    parser.add_argument("--no-mask-failed", action="store_true", help="offer a skill again right after it failed")
+    parser.add_argument(
+        "--feedback",
+        choices=["mask", "message", "both", "none"],
+        default="message",
+        help="after a failed skill: message (default, REI-Bench): show the simulator's failure text; mask: do not "
+        "offer the skill again until a step succeeds; both; none (LoTa-Bench's default)",
+    )
+    parser.add_argument(
+        "--no-mask-failed", action="store_true", help="(older flag) with --feedback mask or both: do not mask"
+    )
+    parser.add_argument(
+        "--care-order",
+        choices=["best_first", "best_last"],
+        help="CARE: where the most similar retrieved item goes (default best_last: next to the query)",
+    )
+    parser.add_argument("--care-dedupe", action="store_true", help="CARE: at most one retrieved item per memory task")
+    parser.add_argument(
+        "--generation-tokens",
+        type=positive_int,
+        metavar="N",
+        help="CoT / TOCC: token budget of the generated answer / rewrite (default: measured, docs/strategies.md)",
+    )
+    parser.add_argument(
+        "--generation-chat",
+        action="store_true",
+        help="CoT / TOCC: wrap the generation prompt in the model's chat template (default: plain completion)",
+    )
     parser.add_argument(
         "--base-url",
         action="append",
@@ -162,13 +188,12 @@ def run(args: argparse.Namespace) -> int:
 
         clients = [CachedLM(client, args.cache) for client in clients]
     model = clients[0]
-    strategy = load_strategy(args.strategy)
-    config = SayCanConfig(
-        max_steps=args.max_steps,
-        scoring=args.scoring,
-        mask_failed=not args.no_mask_failed,
-        mode=args.planner,
-        log_top=args.log_top,
+    strategy = load_strategy(args.strategy, **_strategy_args(args))
+    feedback = args.feedback
+    if args.no_mask_failed:
+        feedback = {"mask": "none", "both": "message"}.get(feedback, feedback)
+    config = SayCanConfig.with_feedback(
+        feedback, max_steps=args.max_steps, scoring=args.scoring, mode=args.planner, log_top=args.log_top
     )
     if args.log_top:
         import logging
@@ -190,6 +215,22 @@ def run(args: argparse.Namespace) -> int:
         f"{summary.successes}/{summary.ran} successful this time"
     )
     return 0
+
+
+def _strategy_args(args: argparse.Namespace) -> dict[str, object]:
+    """The strategy's constructor options from its flags; a flag of another strategy is an error."""
+    options: dict[str, object] = {}
+    care = {"order": args.care_order, "dedupe": args.care_dedupe or None}
+    generation = {"max_new_tokens": args.generation_tokens, "chat": args.generation_chat or None}
+    for owners, flags, names in (
+        (("care",), care, "--care-order / --care-dedupe"),
+        (("cot", "tocc"), generation, "--generation-tokens / --generation-chat"),
+    ):
+        given = {k: v for k, v in flags.items() if v is not None}
+        if given and args.strategy not in owners:
+            raise ValueError(f"{names} apply to --strategy {' or '.join(owners)}, not {args.strategy}")
+        options.update(given)
+    return options
 
 
 def _local_tokenizer(model: str) -> bool:

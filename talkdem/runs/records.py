@@ -37,7 +37,9 @@ OUTCOME_KEYS = (
     "config.max_steps",
     "config.scoring",
     "config.mask_failed",
+    "config.failure_message",
     "config.mode",
+    "config.strategy_args",
 )
 """Header fields (top level, or `config.NAME`) that change what an episode's outcome means: episodes that
 differ in any of them cannot be pooled into one run (resume and merge both check them)."""

@@ -79,12 +79,16 @@ def run_episodes(
         model={"backend": model.identity.backend, "name": model.identity.name, "revision": model.identity.revision},
         planner=config.planner_name,
         strategy=strategy.name,
-        prompt_version=prompt_version(),
+        # What a run sets that changes a rendered prompt names the prompt version too.
+        prompt_version=prompt_version({"failure_message": config.failure_message, "strategy_args": strategy.options()}),
         config={
             "max_steps": config.max_steps,
             "scoring": config.scoring,
             "mask_failed": config.mask_failed,
+            "failure_message": config.failure_message,
+            "feedback": config.feedback,
             "mode": config.mode,
+            "strategy_args": strategy.options(),
             **(extra_config or {}),
             **({"served": served} if served else {}),
             "planned_episodes": len(instructions),

@@ -65,3 +65,26 @@ def test_nothing_at_run_time_imports_the_builders(package: str) -> None:
         and any(name == "builders" or name.startswith("builders.") for name in _imported_modules(path))
     ]
     assert offenders == []
+
+
+def test_order_and_dedupe_options() -> None:
+    from golden_support import bag_of_words
+
+    from care.strategy import ContextAwareRetrieval
+
+    memory = load_memory_bank()
+    probe = next(m for m in memory if m.condition.pattern == "intrusion" and m.condition.level == 3)
+    plain = ContextAwareRetrieval(memory=memory, encode=bag_of_words)
+    retrieved = plain.retrieve([probe.instruction])[0]
+    assert retrieved[0].id == probe.id  # an instruction is most similar to itself
+    shown = plain.prepare([probe.instruction], ScriptedLM(["done"]))[0]
+    assert [d.instruction for d in shown.demonstrations] == [m.instruction for m in reversed(retrieved)]  # best last
+    first = ContextAwareRetrieval(memory=memory, encode=bag_of_words, order="best_first")
+    shown_first = first.prepare([probe.instruction], ScriptedLM(["done"]))[0]
+    assert [d.instruction for d in shown_first.demonstrations] == [m.instruction for m in retrieved]
+    deduped = ContextAwareRetrieval(memory=memory, encode=bag_of_words, dedupe=True)
+    items = deduped.retrieve([probe.instruction])[0]
+    assert len(items) == 3 and len({m.task_id for m in items}) == 3 and items[0].id == probe.id
+    assert deduped.options() == {"k": 3, "order": "best_last", "dedupe": True}
+    with pytest.raises(ValueError, match="CARE order must be one of"):
+        ContextAwareRetrieval(memory=memory, encode=bag_of_words, order="middle")  # type: ignore[arg-type]

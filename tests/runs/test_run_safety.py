@@ -64,7 +64,8 @@ def test_the_lock_is_exclusive_and_released(tmp_path: Path) -> None:
     [
         (["--max-steps", "5"], "config.max_steps"),
         (["--scoring", "mean"], "config.scoring"),
-        (["--no-mask-failed"], "config.mask_failed"),
+        (["--feedback", "mask"], "config.mask_failed"),
+        (["--feedback", "none"], "config.failure_message"),
     ],
 )
 def test_resuming_with_settings_that_change_results_is_refused(tmp_path: Path, flag: list[str], setting: str) -> None:
