@@ -59,9 +59,10 @@ def register(subparsers: Any) -> None:
         help="CoT / TOCC: token budget of the generated answer / rewrite (default: measured, docs/strategies.md)",
     )
     parser.add_argument(
-        "--generation-chat",
+        "--generation-plain",
         action="store_true",
-        help="CoT / TOCC: wrap the generation prompt in the model's chat template (default: plain completion)",
+        help="CoT / TOCC: continue the generation prompt as plain text, as REI-Bench does (default: the model's "
+        "chat template)",
     )
     parser.add_argument(
         "--base-url",
@@ -221,10 +222,10 @@ def _strategy_args(args: argparse.Namespace) -> dict[str, object]:
     """The strategy's constructor options from its flags; a flag of another strategy is an error."""
     options: dict[str, object] = {}
     care = {"order": args.care_order, "dedupe": args.care_dedupe or None}
-    generation = {"max_new_tokens": args.generation_tokens, "chat": args.generation_chat or None}
+    generation = {"max_new_tokens": args.generation_tokens, "chat": False if args.generation_plain else None}
     for owners, flags, names in (
         (("care",), care, "--care-order / --care-dedupe"),
-        (("cot", "tocc"), generation, "--generation-tokens / --generation-chat"),
+        (("cot", "tocc"), generation, "--generation-tokens / --generation-plain"),
     ):
         given = {k: v for k, v in flags.items() if v is not None}
         if given and args.strategy not in owners:

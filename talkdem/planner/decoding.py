@@ -1,14 +1,18 @@
 """Decoding of the words a strategy asks the model for before planning (CoT's answer, TOCC's rewrite).
 
-REI-Bench's rule (`task_planner.py`, its CoT and TOCC branches): a plain completion of the prompt, greedy,
-stopped at the first ".", of which the last line is kept. On top of it, so that nothing reaches the planner
-cut mid-sentence or looping without it being recorded:
+REI-Bench's rule (`task_planner.py`, its CoT and TOCC branches): greedy, stopped at the first ".", of which
+the last line is kept. REI-Bench continues the prompt as plain text; the default model (an instruct model,
+as are all the paper's) then starts a numbered plan or says nothing (docs/strategies.md), so the prompt goes
+through the model's chat template (`chat=True`; `chat=False` is REI-Bench's plain completion). The stop
+rule also ends at "?" and "!", the other sentence ends (the benchmark's requests are often questions). On
+top of it, so that nothing reaches the planner cut mid-sentence or looping without it being recorded:
 
 - a token budget measured on the benchmark's longest instructions (docs/strategies.md): a sentence that
   restates even the longest instruction in full fits, so the cap is only reached by output that never ends;
 - a repeated phrase (the same 1-8 words three times in a row) is cut after its first occurrence;
 - every output gets a status, recorded in the episode's notes: `ok`, `loop_cut`, `truncated` (the budget
-  ran out before a "."), or `empty` (nothing usable). Nothing falls back silently to the original.
+  ran out before a sentence end), or `empty` (nothing usable: no letter at all, e.g. a bare list number
+  "1" cut at its "."). Nothing falls back silently to the original.
 """
 
 from __future__ import annotations
@@ -25,9 +29,9 @@ __all__ = ["MAX_NEW_TOKENS", "Generated", "GenerationStatus", "StepDecoding", "c
 
 GenerationStatus = Literal["ok", "loop_cut", "truncated", "empty"]
 
-MAX_NEW_TOKENS = 160
-"""The longest benchmark instruction is 149 tokens with the default model's tokenizer (docs/strategies.md),
-rounded up to a multiple of 32: a one-sentence answer never needs more."""
+MAX_NEW_TOKENS = 128
+"""The longest benchmark instruction is 89 tokens with the default model's tokenizer (docs/strategies.md):
+a sentence restating even that one in full fits, with room for a leading line the last-line rule drops."""
 
 _LOOP_WORDS = 8
 _LOOP_REPEATS = 3
@@ -68,7 +72,7 @@ def clean_generation(raw: str, hit_cap: bool) -> Generated:
     lines = [line.strip() for line in raw.splitlines() if line.strip()]
     text = " ".join(lines[-1].split()) if lines else ""
     text, looped = cut_loop(text)
-    if not any(ch.isalnum() for ch in text):
+    if not any(ch.isalpha() for ch in text):
         return Generated("", "empty")
     if looped:
         return Generated(text, "loop_cut")
@@ -84,9 +88,9 @@ class StepDecoding:
     """How a strategy's generation step decodes (recorded in the run header as strategy options)."""
 
     max_new_tokens: int = MAX_NEW_TOKENS
-    stop: tuple[str, ...] = (".",)
-    chat: bool = False
-    """False (REI-Bench): continue the prompt as plain text; True: wrap it in the model's chat template."""
+    stop: tuple[str, ...] = (".", "?", "!")
+    chat: bool = True
+    """True: wrap the prompt in the model's chat template; False (REI-Bench): continue it as plain text."""
 
     def __post_init__(self) -> None:
         if self.max_new_tokens < 1:

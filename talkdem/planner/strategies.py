@@ -92,7 +92,7 @@ class ChainOfThought(Strategy):
 
     name = "cot"
 
-    def __init__(self, max_new_tokens: int = MAX_NEW_TOKENS, chat: bool = False) -> None:
+    def __init__(self, max_new_tokens: int = MAX_NEW_TOKENS, chat: bool = True) -> None:
         self.decoding = _decoding(max_new_tokens, chat)
 
     def options(self) -> dict[str, object]:
@@ -117,7 +117,7 @@ class TaskOrientedContextCognition(Strategy):
 
     name = "tocc"
 
-    def __init__(self, max_new_tokens: int = MAX_NEW_TOKENS, chat: bool = False) -> None:
+    def __init__(self, max_new_tokens: int = MAX_NEW_TOKENS, chat: bool = True) -> None:
         self.decoding = _decoding(max_new_tokens, chat)
 
     def options(self) -> dict[str, object]:

@@ -71,6 +71,7 @@ def test_generation_status_cuts_loops_and_flags_the_cap() -> None:
     assert looped == Generated("examine a box", "loop_cut")
     assert clean_generation("There used to be some", hit_cap=True) == Generated("There used to be some", "truncated")
     assert clean_generation(" \n", hit_cap=False).status == "empty"
+    assert clean_generation("1", hit_cap=False).status == "empty"  # a numbered plan cut at its first "."
     assert cut_loop("put the the mug away") == ("put the the mug away", False)  # two in a row is not a loop
     assert cut_loop("no no no no") == ("no", True)
 
@@ -84,9 +85,10 @@ def test_decoding_budget_and_stop_rule_reach_the_model() -> None:
     lm = Asked(["done"])
     tocc = load_strategy("tocc", max_new_tokens=50)
     result = tocc.prepare(["hi"], lm)[0]
-    assert [(r.max_new_tokens, r.stop, r.chat) for r in lm.requests] == [(50, (".",), False)]
+    assert [(r.max_new_tokens, r.stop, r.chat) for r in lm.requests] == [(50, (".", "?", "!"), True)]
     assert result.notes["rewrite_status"] == "loop_cut" and result.instruction == "word"
-    assert tocc.options() == {"max_new_tokens": 50, "stop": ["."], "chat": False}
+    assert tocc.options() == {"max_new_tokens": 50, "stop": [".", "?", "!"], "chat": True}
+    assert load_strategy("cot", chat=False).options()["chat"] is False
 
 
 def test_icl_uses_five_fixed_examples_one_per_pattern() -> None:
