@@ -15,6 +15,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Literal, get_args
 
+import numpy as np
+
 from care.embedding_cache import CachedEncoder
 from care.memory import Encoder, memory_embeddings
 from care.retrieval import top_k
@@ -53,9 +55,14 @@ class ContextAwareRetrieval(Strategy):
         self.order: Order = order
         self.dedupe = dedupe
         # The default encoder's embeddings are cached on disk by (text, encoder): a repeated run over the same
-        # instructions encodes nothing. An encoder passed in has no name to key a cache by, so it is used as is.
-        self.encode: Encoder = encode or CachedEncoder(_minilm(), ENCODER_NAME)
-        self.embeddings = memory_embeddings(self.memory, self.encode, ENCODER_NAME)
+        # instructions encodes nothing. An encoder passed in has no name to key a cache by, so neither its
+        # queries nor the memory's embeddings touch the disk (keyed by MiniLM's name they would poison its cache).
+        if encode is None:
+            self.encode: Encoder = CachedEncoder(_minilm(), ENCODER_NAME)
+            self.embeddings = memory_embeddings(self.memory, self.encode, ENCODER_NAME)
+        else:
+            self.encode = encode
+            self.embeddings = np.asarray(encode([item.instruction for item in self.memory]), dtype=np.float64)
 
     def options(self) -> dict[str, object]:
         return {"k": self.k, "order": self.order, "dedupe": self.dedupe}

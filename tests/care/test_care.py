@@ -88,3 +88,15 @@ def test_order_and_dedupe_options() -> None:
     assert deduped.options() == {"k": 3, "order": "best_last", "dedupe": True}
     with pytest.raises(ValueError, match="CARE order must be one of"):
         ContextAwareRetrieval(memory=memory, encode=bag_of_words, order="middle")  # type: ignore[arg-type]
+
+
+def test_an_encoder_passed_in_never_writes_the_shared_cache(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    # Keyed by MiniLM's name, another encoder's memory embeddings would be read back by every later CARE run.
+    from golden_support import bag_of_words
+
+    from care.strategy import ContextAwareRetrieval
+
+    monkeypatch.setenv("TALKDEM_CACHE_DIR", str(tmp_path))
+    care = ContextAwareRetrieval(memory=load_memory_bank(), encode=bag_of_words)
+    assert care.embeddings.shape == (len(care.memory), 512)
+    assert not list(tmp_path.rglob("*.np*"))
