@@ -45,7 +45,34 @@ def register(subparsers: Any) -> None:
         metavar="N",
         help="react planner: the token budget of one thought (it also ends at the first sentence end)",
     )
-    parser.add_argument("--no-mask-failed", action="store_true", help="offer a skill again right after it failed")
+    parser.add_argument(
+        "--feedback",
+        choices=["mask", "message", "both", "none"],
+        default="message",
+        help="after a failed skill: message (default, REI-Bench): show the simulator's failure text; mask: do not "
+        "offer the skill again until a step succeeds; both; none (LoTa-Bench's default)",
+    )
+    parser.add_argument(
+        "--no-mask-failed", action="store_true", help="(older flag) with --feedback mask or both: do not mask"
+    )
+    parser.add_argument(
+        "--care-order",
+        choices=["best_first", "best_last"],
+        help="CARE: where the most similar retrieved item goes (default best_last: next to the query)",
+    )
+    parser.add_argument("--care-dedupe", action="store_true", help="CARE: at most one retrieved item per memory task")
+    parser.add_argument(
+        "--generation-tokens",
+        type=positive_int,
+        metavar="N",
+        help="CoT / TOCC: token budget of the generated answer / rewrite (default: measured, docs/strategies.md)",
+    )
+    parser.add_argument(
+        "--generation-plain",
+        action="store_true",
+        help="CoT / TOCC: continue the generation prompt as plain text, as REI-Bench does (default: the model's "
+        "chat template)",
+    )
     parser.add_argument(
         "--base-url",
         action="append",
@@ -192,19 +219,20 @@ def run(args: argparse.Namespace) -> int:
 
         clients = [CachedLM(client, args.cache) for client in clients]
     model = clients[0]
-    strategy = load_strategy(args.strategy)
+    strategy = load_strategy(args.strategy, **_strategy_args(args))
     config: SayCanConfig | ReActConfig
     if args.planner == "react":
         if args.log_top or args.no_mask_failed or args.scoring != "sum":
             raise ValueError("--log-top, --no-mask-failed and --scoring are for the SayCan planners, not react")
         config = ReActConfig(max_steps=args.max_steps, thought_tokens=args.thought_tokens)
     else:
-        config = SayCanConfig(
-            max_steps=args.max_steps,
-            scoring=args.scoring,
-            mask_failed=not args.no_mask_failed,
-            mode=args.planner,
-            log_top=args.log_top,
+        feedback = args.feedback
+        if args.no_mask_failed:
+            if feedback not in ("mask", "both"):
+                raise ValueError(f"--no-mask-failed turns masking off, and --feedback {feedback} does not mask")
+            feedback = {"mask": "none", "both": "message"}[feedback]
+        config = SayCanConfig.with_feedback(
+            feedback, max_steps=args.max_steps, scoring=args.scoring, mode=args.planner, log_top=args.log_top
         )
     if args.log_top:
         import logging
@@ -229,6 +257,22 @@ def run(args: argparse.Namespace) -> int:
         f"{summary.successes}/{summary.ran} successful this time"
     )
     return 0
+
+
+def _strategy_args(args: argparse.Namespace) -> dict[str, object]:
+    """The strategy's constructor options from its flags; a flag of another strategy is an error."""
+    options: dict[str, object] = {}
+    care = {"order": args.care_order, "dedupe": args.care_dedupe or None}
+    generation = {"max_new_tokens": args.generation_tokens, "chat": False if args.generation_plain else None}
+    for owners, flags, names in (
+        (("care",), care, "--care-order / --care-dedupe"),
+        (("cot", "tocc"), generation, "--generation-tokens / --generation-plain"),
+    ):
+        given = {k: v for k, v in flags.items() if v is not None}
+        if given and args.strategy not in owners:
+            raise ValueError(f"{names} apply to --strategy {' or '.join(owners)}, not {args.strategy}")
+        options.update(given)
+    return options
 
 
 def _local_tokenizer(model: str) -> bool:

@@ -94,7 +94,11 @@ class CachedLM(LanguageModel):
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
         return self._through_cache(
             "generate",
-            [(r.prompt, r.max_new_tokens, list(r.stop), r.temperature, r.seed) for r in requests],
+            # `chat` joins the key only when off, so entries cached before the field existed keep their keys.
+            [
+                (r.prompt, r.max_new_tokens, list(r.stop), r.temperature, r.seed, *(() if r.chat else ("raw",)))
+                for r in requests
+            ],
             lambda indices: self.inner.generate([requests[i] for i in indices]),
         )
 

@@ -106,7 +106,7 @@ class HFCausalLM(LanguageModel):
 
         outputs = []
         for request in requests:
-            if self.use_chat_template:
+            if self.use_chat_template and request.chat:
                 text = self.tokenizer.apply_chat_template(
                     [{"role": "user", "content": request.prompt}], tokenize=False, add_generation_prompt=True
                 )

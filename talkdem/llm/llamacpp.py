@@ -302,7 +302,7 @@ class LlamaCppLM(LanguageModel):
                 "repeat_penalty": 1.0,
                 "stop": [s for s in request.stop if s] or None,
             }
-            if self.use_chat_template:
+            if self.use_chat_template and request.chat:
                 response = self._llm.create_chat_completion(
                     messages=[{"role": "user", "content": request.prompt}], **options
                 )

@@ -242,7 +242,8 @@ class OpenAICompatibleLM(LanguageModel):
 
     # -- one request ----------------------------------------------------------------------------------
     def _generate_one(self, request: GenerateRequest) -> str:
-        if self.endpoint in ("chat", "auto"):
+        # A plain completion (`chat=False`) goes to /v1/completions unless the endpoint is chat only.
+        if self.endpoint == "chat" or (self.endpoint == "auto" and request.chat):
             try:
                 text = self._chat(request)
             except EndpointError as error:

@@ -33,6 +33,9 @@ class GenerateRequest:
     """Generation is cut at the first of these strings (which is not returned)."""
     temperature: float = 0.0
     seed: int = 0
+    chat: bool = True
+    """Wrap the prompt in the model's chat template when the backend uses one; False: a plain completion
+    of the prompt text (REI-Bench's CoT and TOCC generate this way, continuing the prompt as written)."""
 
     def __post_init__(self) -> None:
         if self.temperature < 0:

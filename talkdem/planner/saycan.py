@@ -7,10 +7,12 @@ and executes them in the simulator):
   Under sum scoring a backend that offers `best_continuation` (llama.cpp, transformers) finds the winner
   exactly by branch and bound over the skills' token trie, without scoring every skill in full; mean
   scoring, and `log_top` (which logs the best skills of every step), score every skill.
-- Simulator feedback: the prompt only ever shows the skills chosen so far (as in LoTa-Bench); a skill that
-  just failed is not offered again until a step succeeds (`mask_failed=True`). This stands in for SayCan's
-  affordance function and keeps a deterministic planner from repeating the same failing step until the
-  limit. With `mask_failed=False` failures are not used at all.
+- Simulator feedback after a failed skill (`feedback`, docs/strategies.md): `message` (the default, as
+  REI-Bench's config runs it, `use_predefined_prompt: True`): the step is written with the simulator's
+  message, ` <skill> (this action failed: <message>), <n>.`; `mask`: the skill that just failed is not
+  offered again until a step succeeds (an affordance stand-in of ours, no source does it); `both`; `none`
+  (LoTa-Bench's default): failures are not used at all. Two fields carry it, `mask_failed` and
+  `failure_message`, so that a config keeps one field per mechanism.
 - The episode ends at `done` or after `max_steps` steps (30, as REI-Bench).
 - Generative mode (for chat endpoints without prompt log-likelihoods): the model writes the next step and
   it is mapped to the most similar vocabulary skill; results are labelled `saycan-generative`.
@@ -23,7 +25,7 @@ import logging
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 from talkdem.llm.base import LanguageModel
 from talkdem.llm.requests import GenerateRequest
@@ -34,19 +36,44 @@ from talkdem.seeds.records import SeedTask
 from talkdem.sim import DEFAULT_MAX_STEPS, Episode, EpisodeTrace
 from talkdem.skills import vocabulary
 
-__all__ = ["PlanResult", "SayCanConfig", "SayCanPlanner", "nearest_skill"]
+__all__ = ["FEEDBACK", "Feedback", "PlanResult", "SayCanConfig", "SayCanPlanner", "nearest_skill"]
 
 _log = logging.getLogger(__name__)
+
+
+Feedback = Literal["mask", "message", "both", "none"]
+FEEDBACK: dict[Feedback, tuple[bool, bool]] = {
+    "mask": (True, False),
+    "message": (False, True),
+    "both": (True, True),
+    "none": (False, False),
+}
+"""Feedback policy -> (mask_failed, failure_message)."""
 
 
 @dataclass(frozen=True)
 class SayCanConfig:
     max_steps: int = DEFAULT_MAX_STEPS
     scoring: Literal["sum", "mean"] = "sum"
-    mask_failed: bool = True
+    mask_failed: bool = False
+    """Do not offer a skill again right after it failed (until a step succeeds)."""
     mode: Literal["scoring", "generative"] = "scoring"
     log_top: int = 0
     """When > 0, score every skill at every step and log (and keep in the result) the best `log_top`."""
+    failure_message: bool = True
+    """Write a failed step with the simulator's message, as REI-Bench does."""
+
+    @classmethod
+    def with_feedback(cls, feedback: str, **fields: Any) -> SayCanConfig:
+        """A config with the feedback policy `feedback` (one of FEEDBACK) and other fields as given."""
+        if feedback not in FEEDBACK:
+            raise ValueError(f"feedback must be one of {', '.join(FEEDBACK)}, got {feedback!r}")
+        mask, message = FEEDBACK[feedback]
+        return cls(**{**fields, "mask_failed": mask, "failure_message": message})
+
+    @property
+    def feedback(self) -> Feedback:
+        return next(name for name, flags in FEEDBACK.items() if flags == (self.mask_failed, self.failure_message))
 
     @property
     def planner_name(self) -> str:
@@ -106,6 +133,7 @@ class SayCanPlanner:
             demonstrations=planner_input.demonstrations,
             demonstrations_intro=planner_input.demonstrations_intro,
             interpretation=planner_input.interpretation,
+            query_label=planner_input.query_label,
         )
 
     def _scores(self, context: str, candidates: Sequence[str]) -> list[float]:
@@ -154,7 +182,8 @@ class SayCanPlanner:
                 blocked.clear()
             elif self.config.mask_failed:
                 blocked.add(skill)
-            context = append_step(context, skill, step + 1)
+            shown = outcome.message if self.config.failure_message and not outcome.ok else ""
+            context = append_step(context, skill, step + 1, shown)
         seconds = time.perf_counter() - start
         trace = episode.close()
         return PlanResult(

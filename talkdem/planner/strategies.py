@@ -13,8 +13,9 @@ from dataclasses import dataclass, field
 
 from talkdem.instructions import MemoryItem, load_memory_bank
 from talkdem.llm.base import LanguageModel
-from talkdem.llm.requests import GenerateRequest
-from talkdem.planner.prompt import Demonstration, prompt_text
+from talkdem.planner.decoding import MAX_NEW_TOKENS, StepDecoding
+from talkdem.planner.examples import task_type_examples
+from talkdem.planner.prompt import EXAMPLE_PREFIX, HUMAN_PREFIX, Demonstration, prompt_head, prompt_text
 from talkdem.registry import Registry
 from talkdem.schema import PATTERN_CONFIGS
 
@@ -37,14 +38,17 @@ class PlannerInput:
     """What the SayCan prompt is built from for one instruction."""
 
     instruction: str
-    """The instruction the planner sees (TOCC: the rewrite; otherwise the original)."""
+    """The instruction the planner sees (TOCC: the rewrite, possibly empty; otherwise the original)."""
     preamble: str = ""
+    """Lines right before the query (AP's awareness sentence)."""
     demonstrations: tuple[Demonstration, ...] = ()
     demonstrations_intro: str = ""
     interpretation: str = ""
-    """A line after the instruction (CoT: the model's one-sentence task)."""
+    """A line after the instruction (CoT: `Hint: <the model's one-sentence task>`)."""
+    query_label: str = HUMAN_PREFIX
     notes: dict[str, str] = field(default_factory=dict)
-    """Intermediate outputs worth recording in the episode (the rewrite, the interpretation, retrieved ids)."""
+    """Intermediate outputs worth recording in the episode (the rewrite and its status, the interpretation,
+    retrieved ids)."""
 
 
 class Strategy(ABC):
@@ -53,6 +57,10 @@ class Strategy(ABC):
     @abstractmethod
     def prepare(self, instructions: Sequence[str], model: LanguageModel) -> list[PlannerInput]:
         """One `PlannerInput` per instruction, in order."""
+
+    def options(self) -> dict[str, object]:
+        """The constructor arguments that change what the planner is shown (`config.strategy_args`)."""
+        return {}
 
 
 class Vanilla(Strategy):
@@ -65,7 +73,7 @@ class Vanilla(Strategy):
 
 
 class AwarePrompt(Strategy):
-    """AP: an awareness sentence warns that the instruction may be irregular."""
+    """AP: an awareness sentence (a `Robot:` line) right before the query, where REI-Bench puts it."""
 
     name = "ap"
 
@@ -74,34 +82,56 @@ class AwarePrompt(Strategy):
         return [PlannerInput(instruction, preamble=preamble) for instruction in instructions]
 
 
+def _decoding(max_new_tokens: int, chat: bool) -> StepDecoding:
+    return StepDecoding(max_new_tokens=max_new_tokens, chat=chat)
+
+
 class ChainOfThought(Strategy):
-    """CoT: first ask for the single household task in one sentence, then plan with it added."""
+    """CoT (REI-Bench's CoT with the paper's question): the SayCan prompt through the query, then the
+    question; the answer goes after the query as `Hint: <answer>`, the original instruction stays."""
 
     name = "cot"
 
+    def __init__(self, max_new_tokens: int = MAX_NEW_TOKENS, chat: bool = True) -> None:
+        self.decoding = _decoding(max_new_tokens, chat)
+
+    def options(self) -> dict[str, object]:
+        return self.decoding.options()
+
     def prepare(self, instructions: Sequence[str], model: LanguageModel) -> list[PlannerInput]:
-        template = prompt_text("cot")
-        answers = model.generate([GenerateRequest(template.format(query=i), max_new_tokens=48) for i in instructions])
-        return [
-            PlannerInput(instruction, interpretation=answer, notes={"interpretation": answer})
-            for instruction, answer in zip(instructions, answers, strict=True)
-        ]
+        examples = task_type_examples()
+        question = prompt_text("cot")
+        prompts = [prompt_head(i, examples) + question for i in instructions]
+        inputs = []
+        for instruction, answer in zip(instructions, self.decoding.run(model, prompts), strict=True):
+            # An empty answer adds no line: the planner sees the Vanilla prompt, and the status says so.
+            hint = f"Hint: {answer.text}" if answer.text else ""
+            notes = {"interpretation": answer.text, "interpretation_status": answer.status}
+            inputs.append(PlannerInput(instruction, interpretation=hint, notes=notes))
+        return inputs
 
 
 class TaskOrientedContextCognition(Strategy):
-    """TOCC: rewrite the instruction into one clear instruction; the planner sees only the rewrite."""
+    """TOCC: rewrite the instruction into one clear instruction (standalone prompt, as in REI-Bench); the
+    planner sees only the rewrite, labelled `Human:` as REI-Bench does, and never the original."""
 
     name = "tocc"
 
+    def __init__(self, max_new_tokens: int = MAX_NEW_TOKENS, chat: bool = True) -> None:
+        self.decoding = _decoding(max_new_tokens, chat)
+
+    def options(self) -> dict[str, object]:
+        return self.decoding.options()
+
     def prepare(self, instructions: Sequence[str], model: LanguageModel) -> list[PlannerInput]:
         template = prompt_text("tocc")
-        rewrites = model.generate([GenerateRequest(template.format(query=i), max_new_tokens=48) for i in instructions])
-        inputs = []
-        for instruction, rewrite in zip(instructions, rewrites, strict=True):
-            # An empty rewrite would leave the planner with nothing: fall back to the original, and say so.
-            shown = rewrite or instruction
-            inputs.append(PlannerInput(shown, notes={"rewrite": rewrite, "rewrite_empty": str(not rewrite)}))
-        return inputs
+        rewrites = self.decoding.run(model, [template.format(query=" ".join(i.split())) for i in instructions])
+        # The paper: "the planner did not receive the original instruction". An empty rewrite is shown as
+        # an empty query (status `empty`), never replaced by the original.
+        return [
+            PlannerInput(r.text, query_label=EXAMPLE_PREFIX, notes={"rewrite": r.text, "rewrite_status": r.status})
+            for r in rewrites
+        ]
 
 
 def fixed_icl_demonstrations(memory: Sequence[MemoryItem]) -> tuple[Demonstration, ...]:
@@ -152,6 +182,6 @@ STRATEGIES.register("tocc", TaskOrientedContextCognition, "TOCC")
 STRATEGIES.register("care", "care.strategy:ContextAwareRetrieval", "CARE")
 
 
-def load_strategy(name: str) -> Strategy:
-    """Instantiate a registered strategy; unknown names get a did-you-mean."""
-    return STRATEGIES.create(name)
+def load_strategy(name: str, **options: object) -> Strategy:
+    """Instantiate a registered strategy with its options; unknown names get a did-you-mean."""
+    return STRATEGIES.create(name, **options)

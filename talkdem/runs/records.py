@@ -245,8 +245,14 @@ _CONFIG_CHECKS: dict[str, tuple[str, Any]] = {
     "plans": ("a string", lambda v: isinstance(v, str)),
     "plans_sha256": ("a sha256 hex digest", lambda v: isinstance(v, str) and _is_digest(v)),
     "strategy_args": (
-        "map names to strings, numbers or true/false",
-        lambda v: isinstance(v, dict) and all(isinstance(k, str) and _is_scalar(x) for k, x in v.items()),
+        "map names to strings, numbers, true/false or lists of them",
+        lambda v: (
+            isinstance(v, dict)
+            and all(
+                isinstance(k, str) and (_is_scalar(x) or (isinstance(x, list) and all(_is_scalar(y) for y in x)))
+                for k, x in v.items()
+            )
+        ),
     ),
     "backend_args": (
         "map names to strings, numbers or true/false",

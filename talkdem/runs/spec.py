@@ -34,6 +34,7 @@ __all__ = [
     "RunSpec",
     "RunSpecWarning",
     "Scalar",
+    "Setting",
     "check_same_run",
     "differences",
     "header_value",
@@ -44,6 +45,8 @@ __all__ = [
 ]
 
 Scalar = str | int | float | bool
+Setting = Scalar | list[Scalar]
+"""A strategy argument: a plain value, or a list of them (CoT and TOCC's stop strings)."""
 
 NOT_OUTCOME = frozenset({"log_top"})
 """`SayCanConfig` fields that change what is logged, not which plan is chosen: recorded, never compared.
@@ -93,7 +96,16 @@ MERGE_KEYS = (*OUTCOME_KEYS, "config.conditions", "config.limit")
 """Every shard of one run agrees on what an outcome means and on which episodes the run covers."""
 
 
-def strategy_arguments(strategy: Strategy) -> dict[str, Scalar]:
+def _setting(value: object) -> Setting | None:
+    """`value` as the header records it (tuples as lists), or None when it is no plain setting."""
+    if isinstance(value, str | int | float | bool):
+        return value
+    if isinstance(value, list | tuple) and all(isinstance(v, str | int | float | bool) for v in value):
+        return list(value)
+    return None
+
+
+def strategy_arguments(strategy: Strategy) -> dict[str, Setting]:
     """A strategy's settings: what its `options()` says, where it has that method, else its public
     attributes that are plain values (CARE's `k`). Data it holds (the memory bank, demonstrations, an
     encoder) is not an argument; the files it came from are inputs."""
@@ -101,7 +113,7 @@ def strategy_arguments(strategy: Strategy) -> dict[str, Scalar]:
     if callable(options):
         declared = options()
         if isinstance(declared, Mapping):
-            return {str(k): v for k, v in sorted(declared.items()) if isinstance(v, str | int | float | bool)}
+            return {str(k): setting for k, v in sorted(declared.items()) if (setting := _setting(v)) is not None}
     return {
         name: value
         for name, value in sorted(vars(strategy).items())
@@ -165,7 +177,7 @@ class RunSpec:
 
     planner: PlannerConfig
     strategy: str
-    strategy_args: dict[str, Scalar] = field(default_factory=dict)
+    strategy_args: dict[str, Setting] = field(default_factory=dict)
     backend_args: dict[str, Scalar] = field(default_factory=dict)
     """How the model was reached (backend, threads, timeout, tokenizer name, ...): recorded, not compared (a
     sitting on another thread count or server may resume a run)."""
@@ -211,9 +223,18 @@ class RunSpec:
         from talkdem.planner.prompt import prompt_version
         from talkdem.planner.react import react_prompt_version
 
-        version = react_prompt_version() if isinstance(self.planner, ReActConfig) else prompt_version()
+        if isinstance(self.planner, ReActConfig):
+            version = react_prompt_version()
+            feedback: dict[str, Any] = {}
+        else:
+            # What a run sets that changes a rendered prompt names the prompt version too.
+            version = prompt_version(
+                {"failure_message": self.planner.failure_message, "strategy_args": dict(self.strategy_args)}
+            )
+            feedback = {"feedback": self.planner.feedback}
         config: dict[str, Any] = {
             **planner_settings(self.planner),
+            **feedback,
             "strategy_args": dict(self.strategy_args),
             "backend_args": dict(self.backend_args),
             **self.selection,

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import ast
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
@@ -68,17 +67,36 @@ def test_nothing_at_run_time_imports_the_builders(package: str) -> None:
     assert offenders == []
 
 
-def test_an_encoder_passed_in_is_never_cached_under_minilms_name(tmp_path: Path, monkeypatch: Any) -> None:
-    """A stand-in encoder (tests, a user's own) once wrote its vectors to disk under MiniLM's name, and every
-    later CARE run on the machine read them: nothing it computes may reach the cache."""
+def test_order_and_dedupe_options() -> None:
+    from golden_support import bag_of_words
+
+    from care.strategy import ContextAwareRetrieval
+
+    memory = load_memory_bank()
+    probe = next(m for m in memory if m.condition.pattern == "intrusion" and m.condition.level == 3)
+    plain = ContextAwareRetrieval(memory=memory, encode=bag_of_words)
+    retrieved = plain.retrieve([probe.instruction])[0]
+    assert retrieved[0].id == probe.id  # an instruction is most similar to itself
+    shown = plain.prepare([probe.instruction], ScriptedLM(["done"]))[0]
+    assert [d.instruction for d in shown.demonstrations] == [m.instruction for m in reversed(retrieved)]  # best last
+    first = ContextAwareRetrieval(memory=memory, encode=bag_of_words, order="best_first")
+    shown_first = first.prepare([probe.instruction], ScriptedLM(["done"]))[0]
+    assert [d.instruction for d in shown_first.demonstrations] == [m.instruction for m in retrieved]
+    deduped = ContextAwareRetrieval(memory=memory, encode=bag_of_words, dedupe=True)
+    items = deduped.retrieve([probe.instruction])[0]
+    assert len(items) == 3 and len({m.task_id for m in items}) == 3 and items[0].id == probe.id
+    assert deduped.options() == {"k": 3, "order": "best_last", "dedupe": True}
+    with pytest.raises(ValueError, match="CARE order must be one of"):
+        ContextAwareRetrieval(memory=memory, encode=bag_of_words, order="middle")  # type: ignore[arg-type]
+
+
+def test_an_encoder_passed_in_never_writes_the_shared_cache(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    # Keyed by MiniLM's name, another encoder's memory embeddings would be read back by every later CARE run.
+    from golden_support import bag_of_words
+
     from care.strategy import ContextAwareRetrieval
 
     monkeypatch.setenv("TALKDEM_CACHE_DIR", str(tmp_path))
-    memory = load_memory_bank()[:8]
-
-    def constant(texts: Any) -> Any:
-        return np.ones((len(texts), 7)) / np.sqrt(7)
-
-    care = ContextAwareRetrieval(memory=memory, encode=constant)
-    assert care.embeddings.shape == (8, 7)
-    assert list(tmp_path.rglob("*")) == []
+    care = ContextAwareRetrieval(memory=load_memory_bank(), encode=bag_of_words)
+    assert care.embeddings.shape == (len(care.memory), 512)
+    assert not list(tmp_path.rglob("*.np*"))

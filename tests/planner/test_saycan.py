@@ -16,13 +16,27 @@ def test_prompt_layout() -> None:
     examples = [Demonstration("Put a pillow on an ottoman.", ("find a pillow", "done"))]
     demo = Demonstration("um, the thing, the mug", ("find a mug", "done"), "Put a mug away.")
     prompt = build_prompt(
-        "  move the   vase ", examples, demonstrations=[demo], demonstrations_intro="INTRO\n", interpretation="Move it."
+        "  move the   vase ",
+        examples,
+        preamble="Robot: AWARE\n",
+        demonstrations=[demo],
+        demonstrations_intro="INTRO\n",
+        interpretation="Hint: Move it.",
     )
     assert prompt.startswith(prompt_text("saycan_header"))
-    assert "Human pending instruction: Put a pillow on an ottoman.\nRobot: 1. find a pillow, 2. done.\n" in prompt
+    # Examples as LoTa-Bench labels them; demonstrations and the query as the paper's boxes and REI-Bench do.
+    assert "\nHuman: Put a pillow on an ottoman.\nRobot: 1. find a pillow, 2. done.\n" in prompt
     assert "INTRO\nHuman pending instruction: um, the thing, the mug\nPut a mug away.\nRobot: 1. find a mug" in prompt
-    assert prompt.endswith("Human pending instruction: move the vase\nMove it.\nRobot: 1.")
+    # AP's sentence right before the query (REI-Bench), after every example and demonstration.
+    assert prompt.endswith(
+        "2. done.\nRobot: AWARE\nHuman pending instruction: move the vase\nHint: Move it.\nRobot: 1."
+    )
+    assert build_prompt("", examples, query_label="Human: ").endswith("done.\nHuman:\nRobot: 1.")
     assert append_step("Robot: 1.", "find a vase", 2) == "Robot: 1. find a vase, 2."
+    assert (
+        append_step("Robot: 1.", "find a vase", 2, "Cannot find Vase")
+        == "Robot: 1. find a vase (this action failed: cannot find vase), 2."
+    )
     assert format_plan(["a", "b"]) == "1. a, 2. b."
 
 
@@ -34,19 +48,42 @@ def test_reference_plan_is_followed_and_succeeds() -> None:
     assert len(result.step_scores) == len(result.plan)
 
 
-def test_failed_skill_is_masked_until_a_step_succeeds() -> None:
-    # `pick up the apple` before any find fails; the script insists on it, so masking must move on.
+class _RecordingLM(ScriptedLM):
+    """Keeps every context it was asked to score."""
+
+    def __init__(self, script: list[str]) -> None:
+        super().__init__(script)
+        self.contexts: list[str] = []
+
+    def loglikelihood(self, requests):  # type: ignore[no-untyped-def]
+        self.contexts += [r.context for r in requests]
+        return super().loglikelihood(requests)
+
+
+def test_feedback_policies_mask_and_or_show_the_failure() -> None:
+    # `pick up the apple` before any find fails; the script insists on it.
     script = ["pick up the apple", "pick up the apple", "done"]
-    masked = SayCanPlanner(ScriptedLM(script), SayCanConfig(max_steps=6)).plan(TASK, PlannerInput("x"))
-    assert masked.plan[0] == "pick up the apple" and masked.plan[1] != "pick up the apple"
-    unmasked = SayCanPlanner(ScriptedLM(script), SayCanConfig(max_steps=6, mask_failed=False)).plan(
-        TASK, PlannerInput("x")
-    )
-    assert unmasked.plan[:2] == ("pick up the apple", "pick up the apple")
+    results = {}
+    for feedback in ("mask", "message", "both", "none"):
+        lm = _RecordingLM(script)
+        config = SayCanConfig.with_feedback(feedback, max_steps=6)
+        assert config.feedback == feedback
+        results[feedback] = (SayCanPlanner(lm, config).plan(TASK, PlannerInput("x")).plan, " ".join(lm.contexts))
+    for feedback in ("mask", "both"):  # masked: the failed skill is not offered at the next step
+        assert results[feedback][0][0] == "pick up the apple" and results[feedback][0][1] != "pick up the apple"
+    for feedback in ("message", "none"):
+        assert results[feedback][0][:2] == ("pick up the apple", "pick up the apple")
+    for feedback in ("message", "both"):  # the simulator's message in the context, REI-Bench's wording
+        assert "pick up the apple (this action failed: " in results[feedback][1]
+    for feedback in ("mask", "none"):
+        assert "this action failed" not in results[feedback][1]
+    assert SayCanConfig().feedback == "message"
+    with pytest.raises(ValueError, match="feedback must be one of"):
+        SayCanConfig.with_feedback("shout")
 
 
 def test_step_limit_ends_the_episode() -> None:
-    result = SayCanPlanner(ScriptedLM(["find an apple"]), SayCanConfig(max_steps=4, mask_failed=False)).plan(
+    result = SayCanPlanner(ScriptedLM(["find an apple"]), SayCanConfig(max_steps=4, failure_message=False)).plan(
         TASK, PlannerInput("x")
     )
     assert len(result.plan) == 4 and "done" not in result.plan

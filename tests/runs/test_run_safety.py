@@ -64,7 +64,8 @@ def test_the_lock_is_exclusive_and_released(tmp_path: Path) -> None:
     [
         (["--max-steps", "5"], "config.max_steps"),
         (["--scoring", "mean"], "config.scoring"),
-        (["--no-mask-failed"], "config.mask_failed"),
+        (["--feedback", "mask"], "config.mask_failed"),
+        (["--feedback", "none"], "config.failure_message"),
     ],
 )
 def test_resuming_with_settings_that_change_results_is_refused(tmp_path: Path, flag: list[str], setting: str) -> None:
@@ -232,3 +233,24 @@ def test_a_run_through_the_result_cache_gives_the_same_records(tmp_path: Path) -
         return [(r.episode_id, r.plan) for r in read_episodes(run_dir)]
 
     assert plans(first) == plans(second) == plans(plain)
+
+
+def test_strategy_options_are_recorded_and_a_resume_with_others_is_refused(tmp_path: Path) -> None:
+    run_dir = tmp_path / "run"
+    assert _scripted(run_dir, 0.0, "--strategy", "tocc").wait(timeout=300) == 0
+    header = read_header(run_dir)
+    assert header.config["strategy_args"] == {"max_new_tokens": 128, "stop": [".", "?", "!"], "chat": True}
+    assert header.config["feedback"] == "message" and header.config["failure_message"] is True
+    episode = read_episodes(run_dir)[0]
+    assert episode.notes["rewrite_status"] == "ok" and episode.instruction_shown == episode.notes["rewrite"]
+    process = _scripted(run_dir, 0.0, "--strategy", "tocc", "--generation-tokens", "64")
+    _, error = process.communicate(timeout=120)
+    assert process.returncode == 2 and "config.strategy_args" in error and "prompt_version" in error
+
+
+def test_a_flag_of_another_strategy_is_one_clear_error(tmp_path: Path) -> None:
+    process = _scripted(tmp_path / "run", 0.0, "--care-order", "best_first")
+    _, error = process.communicate(timeout=120)
+    assert process.returncode == 2 and "Traceback" not in error
+    assert "--care-order / --care-dedupe apply to --strategy care, not vanilla" in error
+    assert not (tmp_path / "run").exists()

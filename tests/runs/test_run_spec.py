@@ -185,7 +185,7 @@ def _header_with(tmp_path: Path, **changes: object) -> Path:
         ({"config.limit": 0}, "'config.limit' must be a positive integer or null"),
         ({"config.conditions": "clean"}, "'config.conditions' must be a list of strings"),
         ({"config.shard": "5/3"}, "'config.shard' must be I/N"),
-        ({"config.strategy_args": {"k": [1]}}, "'config.strategy_args' must map names to strings, numbers"),
+        ({"config.strategy_args": {"k": {"nested": 1}}}, "'config.strategy_args' must map names to strings, numbers"),
         ({"status": "done"}, "'status' must be one of 'running', 'complete', 'incomplete'"),
         ({"inputs": {"data/x": "abc"}}, "'inputs' must map file names to sha256 hex digests"),
         ({"dataset_hash": "not-a-hash"}, "'dataset_hash' must be a sha256 hex digest"),
@@ -289,7 +289,8 @@ def test_a_strategys_arguments_are_its_plain_settings(monkeypatch: pytest.Monkey
         return np.ones((len(texts), 4)) / 2  # type: ignore[arg-type]
 
     care = ContextAwareRetrieval(memory=load_memory_bank()[:10], k=2, encode=encode)
-    assert strategy_arguments(care) == {"k": 2}  # not the memory bank, the encoder or the embeddings
+    # not the memory bank, the encoder or the embeddings
+    assert strategy_arguments(care) == {"k": 2, "order": "best_last", "dedupe": False}
     assert strategy_arguments(load_strategy("vanilla")) == {}
 
 
