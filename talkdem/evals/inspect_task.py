@@ -38,7 +38,7 @@ SYSTEM_PROMPT = (
 )
 
 
-@tool(name="act")
+@tool(name="act")  # type: ignore[untyped-decorator,unused-ignore]  # untyped without the inspect extra
 def skill_tool(episode: SimulatorEpisode, plan: list[str]) -> Tool:
     async def execute(skill: str) -> str:
         """Execute one robot skill in the household and report what happened.
@@ -61,7 +61,7 @@ def _as_action(text: str) -> str:
     return line.removeprefix("Action:").strip()
 
 
-@solver
+@solver  # type: ignore[untyped-decorator,unused-ignore]
 def talkdem_agent(max_steps: int = DEFAULT_MAX_STEPS) -> Solver:
     async def solve(state: TaskState, generate: Generate) -> TaskState:
         episode = load_simulator().start(get_task(state.metadata["task_id"]), max_steps=max_steps)
@@ -85,7 +85,7 @@ def talkdem_agent(max_steps: int = DEFAULT_MAX_STEPS) -> Solver:
     return solve
 
 
-@scorer(metrics=[accuracy(), stderr()])
+@scorer(metrics=[accuracy(), stderr()])  # type: ignore[untyped-decorator,unused-ignore]
 def goal_check(max_steps: int = DEFAULT_MAX_STEPS) -> Any:
     """The simulator's goal check on the executed skills (success: every ALFRED goal condition holds)."""
 
@@ -106,7 +106,7 @@ def goal_check(max_steps: int = DEFAULT_MAX_STEPS) -> Any:
     return score
 
 
-@task
+@task  # type: ignore[untyped-decorator,unused-ignore]
 def talkdem(
     conditions: str | list[str] = "clean", limit: int | None = None, max_steps: int = DEFAULT_MAX_STEPS
 ) -> Task:
