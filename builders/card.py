@@ -236,7 +236,20 @@ def _departures() -> str:
     return "\n".join(lines)
 
 
+def _sample_page(folder: Path) -> str:
+    """A link to the sample page where `talkdem sample-page` wrote it beside the card (else nothing)."""
+    if not (folder / "sample.html").is_file():
+        return ""
+    return (
+        "\n**Read a sample:** [`sample.html`](sample.html) is one self-contained page (open it in a browser) "
+        "showing, per task, the ALFRED seed, the clean control and the 15 variants side by side, with the words "
+        "each pattern adds highlighted, and filters by pattern, level and task type (`talkdem sample-page`).\n"
+    )
+
+
 def render_card(stats: dict[str, Any], folder: Path) -> str:
+    from builders.selection.retrieval import memory_bank_section
+
     markers_file = folder / "markers.json"
     if markers_file.is_file():
         markers = json.loads(markers_file.read_text())
@@ -262,6 +275,8 @@ def render_card(stats: dict[str, Any], folder: Path) -> str:
         verification=_stats_section(stats),
         markers=markers_part,
         definitions=_definitions(),
+        memory_bank=memory_bank_section(folder),
+        sample_page=_sample_page(folder),
     )
 
 
@@ -293,7 +308,7 @@ TALK-Dem is a benchmark for robot task planning under dementia-associated commun
 held-out tasks, with their resolved interpretations and reference plans, supports retrieval-based mitigation (CARE).
 
 {provenance}
-
+{sample_page}
 ## Dataset Details
 
 - **Curated by:** the TALK-Dem authors.
@@ -354,8 +369,9 @@ Each variant is generated independently from the same clean control; patterns ar
 300 tasks (50 for each ALFRED task type: pick and place, stack and place, clean and place, heat and place,
 cool and place, examine in light) were selected from the REI-Bench candidate pool (ALFRED trials that
 Llama-3.1-8B + SayCan completed in AI2-THOR): duplicates removed, then greedy max-min sampling over sentence
-embeddings within each type (see `selection/diversity.md`). The {memory_tasks} memory-bank tasks were selected
-from the remaining candidates by the same procedure, disjoint from the benchmark.
+embeddings within each type (see `selection/diversity.md`).
+
+{memory_bank}
 
 ### Generation
 

@@ -12,6 +12,7 @@ ALLOW_PATTERNS = (
     "build_stats.json",
     "markers.json",
     "markers.md",
+    "sample.html",
     "tasks/*.jsonl",
     "prompts/*.jsonl",
     "selection/*",

@@ -19,6 +19,7 @@ from talkdem.schema import CLEAN, PATTERN_CONFIGS, Condition
 __all__ = [
     "Instruction",
     "MemoryItem",
+    "config_rows",
     "dataset_configs",
     "dataset_hash",
     "load_instructions",
@@ -129,6 +130,12 @@ def _rows(config: str, folder: Path | None) -> list[dict[str, Any]]:
             for row in found:
                 rows.append({k: labels[k][v] if k in labels and isinstance(v, int) else v for k, v in row.items()})
     return rows
+
+
+def config_rows(config: str, folder: Path | None = None) -> list[dict[str, Any]]:
+    """Every row of one config as plain dicts, class labels as their names (splits in sorted order): for readers
+    that need fields the typed records leave out (`seed_instruction`, `pddl_params`, `task_name`)."""
+    return _rows(config, folder)
 
 
 def _condition(pattern: str, row: dict[str, Any]) -> Condition:

@@ -45,7 +45,9 @@ def run(args: argparse.Namespace) -> int:
     print(format_diversity_table(selection.diversity))
     print(
         f"\n{len(seeds)} seed files, {len({s.task_id for s in seeds})} distinct trials; "
-        f"selected {len(selection.benchmark)} benchmark + {len(selection.memory)} memory tasks"
+        f"selected {len(selection.benchmark)} benchmark + {len(selection.memory)} memory tasks; "
+        f"{len(selection.shared_with_benchmark)} trials left out of the memory candidates for sharing an ALFRED "
+        "task or a seed text with a benchmark task"
     )
     if args.write:
         from builders.planner_examples import write_examples
