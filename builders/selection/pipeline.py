@@ -41,8 +41,8 @@ __all__ = [
     "memory_quotas",
     "normalise_seed_text",
     "one_seed_per_trial",
-    "shares_benchmark_task",
     "select_tasks",
+    "shares_benchmark_task",
     "write_selection",
 ]
 

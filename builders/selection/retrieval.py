@@ -73,6 +73,11 @@ class RetrievalRow:
     same_alfred_task: float
 
 
+def _share(pairs: Sequence[tuple[QueryLabels, QueryLabels]], field: str) -> float:
+    same = sum(1 for query, item in pairs if getattr(query, field) == getattr(item, field))
+    return round(same / len(pairs), 4)
+
+
 def top1_agreement(queries: Sequence[QueryLabels], retrieved: Sequence[QueryLabels]) -> list[RetrievalRow]:
     """Shares per group, `retrieved[i]` being the top-1 item of `queries[i]`: all variants, then each pattern
     in the schema's order, then the clean controls (groups without queries are left out)."""
@@ -85,19 +90,14 @@ def top1_agreement(queries: Sequence[QueryLabels], retrieved: Sequence[QueryLabe
     for name, members in groups:
         if not members:
             continue
-        n = len(members)
-
-        def share(field: str, members: list[tuple[QueryLabels, QueryLabels]] = members, n: int = n) -> float:
-            return round(sum(getattr(q, field) == getattr(r, field) for q, r in members) / n, 4)
-
         rows.append(
             RetrievalRow(
                 group=name,
-                queries=n,
-                same_pattern=share("pattern"),
-                same_target=share("target"),
-                same_task_type=share("task_type"),
-                same_alfred_task=share("task_name"),
+                queries=len(members),
+                same_pattern=_share(members, "pattern"),
+                same_target=_share(members, "target"),
+                same_task_type=_share(members, "task_type"),
+                same_alfred_task=_share(members, "task_name"),
             )
         )
     return rows
@@ -180,8 +180,10 @@ def retrieval_table(rows: Sequence[RetrievalRow]) -> str:
         "| --- | ---: | ---: | ---: | ---: | ---: |",
     ]
     for r in rows:
-        cells = (r.same_pattern, r.same_target, r.same_task_type, r.same_alfred_task)
-        lines.append(f"| {_group_name(r.group)} | {r.queries:,} | " + " | ".join(f"{100 * c:.1f}%" for c in cells) + " |")
+        shares = " | ".join(
+            f"{100 * c:.1f}%" for c in (r.same_pattern, r.same_target, r.same_task_type, r.same_alfred_task)
+        )
+        lines.append(f"| {_group_name(r.group)} | {r.queries:,} | {shares} |")
     return "\n".join(lines)
 
 
@@ -190,9 +192,7 @@ def memory_bank_section(folder: Path) -> str:
     `selection/retrieval.json` was computed on this very build (else the command that computes them)."""
     from builders.selection.pipeline import MEMORY_RULE
 
-    text = (
-        "The memory-bank tasks were selected from the remaining candidates by the same procedure. " + MEMORY_RULE
-    )
+    text = "The memory-bank tasks were selected from the remaining candidates by the same procedure. " + MEMORY_RULE
     path = retrieval_file(folder)
     command = "`talkdem retrieval`"
     if not path.is_file():

@@ -81,9 +81,7 @@ def _task_section(task: PageTask) -> str:
 
 def _options(select_id: str, label: str, every: str, values: Sequence[tuple[str, str]]) -> str:
     options = "".join(f'<option value="{_e(v)}">{_e(text)}</option>' for v, text in values)
-    return (
-        f'<label>{label} <select id="{select_id}"><option value="">{every}</option>{options}</select></label>'
-    )
+    return f'<label>{label} <select id="{select_id}"><option value="">{every}</option>{options}</select></label>'
 
 
 def render_sample_page(tasks: Sequence[PageTask], total_tasks: int, per_type: int | None) -> str:
