@@ -208,12 +208,18 @@ def memory_bank_section(folder: Path) -> str:
             f"\n\nThe retrieval diagnostics in `{_RETRIEVAL_FILE}` were computed on another build of the "
             f"data; rerun {command}."
         )
+    leak = (
+        "No query retrieves an item of its own ALFRED task, as the rule requires."
+        if all(r.same_alfred_task == 0 for r in rows)
+        else "Some queries retrieve an item of their own ALFRED task: this memory bank was built from task files "
+        "that break the rule above (built before it, or from other task files)."
+    )
     return text + (
         "\n\n**What CARE retrieves.** Each of the benchmark's instructions is a query; the table counts how often "
         "the single most similar memory item (CARE's own retrieval, all-MiniLM-L6-v2 cosine similarity over "
         f"the {report['memory_items']:,} memory items) has the query's pattern, the target object type of the "
-        "query's task, its task type, and its ALFRED task (goal, objects and floor plan, which the rule above "
-        "keeps at zero). A demonstration of the same pattern shows the planner how that pattern is resolved; "
+        "query's task, its task type, and its ALFRED task (goal, objects and floor plan). A demonstration of the "
+        "same pattern shows the planner how that pattern is resolved; "
         "one with the same target object shows a plan for that very object. Computed by `talkdem retrieval` "
-        f"(`{_RETRIEVAL_FILE}`).\n\n" + retrieval_table(rows)
+        f"(`{_RETRIEVAL_FILE}`). {leak}\n\n" + retrieval_table(rows)
     )

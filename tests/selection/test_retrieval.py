@@ -125,6 +125,7 @@ def test_the_card_fragment_shows_figures_only_for_the_build_they_describe(tmp_pa
     shown = memory_bank_section(folder)
     assert "| All 15 variants | 30 | 50.0% | 50.0% | 100.0% | 50.0% |" in shown
     assert "| Clean controls | 2 | 100.0% | 50.0% | 100.0% | 50.0% |" in shown
+    assert "Some queries retrieve an item of their own ALFRED task" in shown  # B1 shares its task with M1
     assert str(tmp_path) not in shown
     # A rebuild changes the files read: the old figures are not shown as this build's.
     bank = folder / "memory_bank" / "train.parquet"
