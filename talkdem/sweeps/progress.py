@@ -56,7 +56,7 @@ class SweepProgress:
             return
         now = time.monotonic()
         changed = (done, runs_done) != self._last
-        if force or (changed and now - self._last_print >= self.interval):
+        if (force and (changed or self._last is None)) or (changed and now - self._last_print >= self.interval):
             print(self.line(done, runs_done), file=self.stream, flush=True)
             self._last_print = now
             self._last = (done, runs_done)

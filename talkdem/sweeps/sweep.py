@@ -106,6 +106,9 @@ def _run(
         final, _ = book.done()
         meter.update(*book.done(), force=True)
         complete = tuple(str(w.run.run_dir) for w in works if w.merged)
+        folder = work_folder(spec.out)
+        if folder.is_dir() and not any(folder.iterdir()):
+            folder.rmdir()
         return SweepResult(complete, tuple(book.failures), final, done, loads)
 
 
