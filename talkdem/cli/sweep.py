@@ -70,6 +70,8 @@ def sweep(args: argparse.Namespace) -> int:
         extra=extra,
         progress=not args.no_progress,
     )
+    for model, (loads, jobs) in result.model_loads.items():
+        print(f"sweep: {model}: loaded {loads} time(s) by its Ray actors for {jobs} job(s)", file=sys.stderr)
     for run_dir in result.complete:
         print(f"{run_dir}: complete")
     if result.failures:

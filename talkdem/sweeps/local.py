@@ -28,9 +28,17 @@ def _last_line(log: Path) -> str:
 
 
 def run_local(
-    book: JobBook, *, workers: int, threads: int | None, extra: Sequence[str], progress: SweepProgress
+    book: JobBook,
+    *,
+    workers: int,
+    threads: int | None,
+    extra: Sequence[str],
+    progress: SweepProgress,
+    talkdem: Sequence[str] = (),
 ) -> None:
-    """Run every pending job of `book` in up to `workers` processes; failures are recorded in the book."""
+    """Run every pending job of `book` in up to `workers` processes; failures are recorded in the book.
+    `talkdem`: how to start the `talkdem` command (default: this interpreter's `python -m talkdem`)."""
+    launcher = list(talkdem) or [sys.executable, "-m", "talkdem"]
     queue = deque(book.pending())
     logs = work_folder(book.spec.out) / "logs"
     running: dict[str, tuple[Job, subprocess.Popen[bytes], Path, IO[bytes]]] = {}
@@ -43,7 +51,7 @@ def run_local(
                 logs.mkdir(parents=True, exist_ok=True)
                 log = logs / f"{job.key.replace(' ', '.').replace('/', '-of-')}.log"
                 handle: IO[bytes] = log.open("wb")
-                command = [sys.executable, "-m", "talkdem", "run", *job.command(threads, extra)]
+                command = [*launcher, "run", *job.command(threads, extra)]
                 process = subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL)
                 running[job.key] = (job, process, log, handle)
             time.sleep(_POLL_SECONDS)

@@ -98,14 +98,14 @@ def run_ray(
     threads: int,
     extra: Sequence[str],
     progress: SweepProgress,
-) -> dict[str, int]:
-    """Run every pending job of `book` on the Ray cluster at `address`; returns the models each model's actors
-    loaded in all (one per actor: the proof that jobs shared them)."""
+) -> dict[str, tuple[int, int]]:
+    """Run every pending job of `book` on the Ray cluster at `address`; returns, per model, the models its
+    actors loaded in all and the jobs they ran (one load per actor, however many jobs)."""
     ray = _ray()
     from ray.util import ActorPool
 
     connected = connect(address)
-    loads: dict[str, int] = {}
+    loads: dict[str, tuple[int, int]] = {}
     try:
         by_model: dict[int, list[Job]] = {}
         for job in book.pending():
@@ -116,7 +116,8 @@ def run_ray(
             actor = ray.remote(ShardWorker).options(max_concurrency=2, max_restarts=1, max_task_retries=1, **resources)
             actors = [actor.remote() for _ in range(count)]
             try:
-                loads[jobs[0].run.model] = _drain(ray, ActorPool(actors), actors, book, jobs, threads, extra, progress)
+                done = _drain(ray, ActorPool(actors), actors, book, jobs, threads, extra, progress)
+                loads[jobs[0].run.model] = (done, len(jobs))
             finally:
                 for handle in actors:
                     ray.kill(handle)

@@ -26,8 +26,8 @@ class SweepResult:
     """One line per job or merge that failed (its run resumes on the next sweep)."""
     episodes: int
     resumed: int
-    model_loads: dict[str, int]
-    """Ray: models loaded per model of the spec, all actors together (one per actor)."""
+    model_loads: dict[str, tuple[int, int]]
+    """Ray: per model of the spec, (models loaded by its actors in all, jobs they ran): one load per actor."""
 
 
 def default_threads(workers: int) -> int:
@@ -44,15 +44,17 @@ def run_sweep(
     ray: str | None = None,
     extra: Sequence[str] = (),
     progress: bool = True,
+    talkdem: Sequence[str] = (),
 ) -> SweepResult:
-    """Run the sweep `spec` to the end (resuming what is on disk); `extra`: flags for every `talkdem run`."""
+    """Run the sweep `spec` to the end (resuming what is on disk); `extra`: flags for every `talkdem run`;
+    `talkdem`: how local workers start the command (default `python -m talkdem` of this interpreter)."""
     connected = False
     if ray is not None:
         from talkdem.sweeps.ray_cluster import connect
 
         connected = connect(ray)  # first: the default worker count is the cluster's; a wrong address fails now
     try:
-        return _run(spec, workers, threads, shards, ray, extra, progress)
+        return _run(spec, workers, threads, shards, ray, extra, progress, talkdem)
     finally:
         if connected:
             import ray as ray_module
@@ -68,6 +70,7 @@ def _run(
     ray: str | None,
     extra: Sequence[str],
     progress: bool,
+    talkdem: Sequence[str],
 ) -> SweepResult:
     local_workers = workers or 1
     # Local workers share this machine's CPUs; a Ray actor reserves as many CPUs as it has threads.
@@ -94,11 +97,11 @@ def _run(
         done, runs_done = book.done()
         meter = SweepProgress(total, done, len(works), enabled=progress)
         meter.update(done, runs_done, force=True)
-        loads: dict[str, int] = {}
+        loads: dict[str, tuple[int, int]] = {}
         if ray is None:
             from talkdem.sweeps.local import run_local
 
-            run_local(book, workers=local_workers, threads=threads, extra=extra, progress=meter)
+            run_local(book, workers=local_workers, threads=threads, extra=extra, progress=meter, talkdem=talkdem)
         else:
             from talkdem.sweeps.ray_cluster import run_ray
 
