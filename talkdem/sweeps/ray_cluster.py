@@ -24,9 +24,12 @@ from talkdem.sweeps.work import Job
 
 __all__ = ["actor_resources", "connect", "default_workers", "run_ray"]
 
+# The extra's own requirement (pyproject.toml; a test keeps the two together), and the checkout and wheel forms:
+# TALK-Dem is not on PyPI, so `pip install 'talkdem[ray]'` finds nothing.
 _MISSING = (
     "Ray is not installed (the optional extra `ray`): `pip install 'ray[default]==2.60.0'`, or from a checkout "
-    "`pip install -e '.[ray]'`"
+    "`pip install -e '.[ray]'`, or with the wheel `pip install 'PATH/TO/talkdem-VERSION-py3-none-any.whl[ray]'`; "
+    "every node of the cluster needs the same Ray version"
 )
 _POLL_SECONDS = 5.0
 

@@ -4,6 +4,9 @@ traceback); the dry run prints the expansion and writes nothing; the README's ex
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -116,3 +119,33 @@ def test_the_readme_example_specs_expand_as_the_readme_says(capsys: pytest.Captu
         claim = re.search(rf"`{re.escape(name)}`[^\n]*?(\d+) runs, ([\d,]+) episodes", section)
         assert claim is not None, f"the README says nothing of {name}'s size"
         assert (claim.group(1), claim.group(2).replace(",", "")) == (runs, episodes)
+
+
+def test_the_dry_run_imports_no_heavy_library_nor_ray() -> None:
+    code = (
+        "import sys\n"
+        "from talkdem.cli import main\n"
+        f"main(['sweep', {str(repo_root() / 'examples' / 'sweep-paper.yaml')!r}, '--dry-run'])\n"
+        "heavy = [m for m in ('torch', 'transformers', 'sentence_transformers', 'llama_cpp', 'ray') if m in sys.modules]\n"
+        "print('HEAVY', heavy, file=sys.stderr)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert "HEAVY []" in result.stderr
+
+
+def test_ray_missing_is_one_line_naming_the_extra(tmp_path: Path) -> None:
+    # A `ray` that cannot be imported (None in sys.modules), as on an install without the extra.
+    code = (
+        "import sys\n"
+        "sys.modules['ray'] = None\n"
+        "from talkdem.cli import main\n"
+        f"sys.exit(main(['sweep', {str(_spec(tmp_path, GOOD))!r}, '--ray', 'auto']))\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
+    assert "Ray is not installed (the optional extra `ray`)" in result.stderr
+    (requirement,) = tomllib.loads((repo_root() / "pyproject.toml").read_text())["project"]["optional-dependencies"][
+        "ray"
+    ]
+    assert f"pip install '{requirement}'" in result.stderr and "pip install -e '.[ray]'" in result.stderr
+    assert not (tmp_path / "out").exists()
