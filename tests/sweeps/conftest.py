@@ -6,9 +6,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent.parent / "planner"))
 
-from scripted_lm import ScriptedLM  # noqa: E402
+from scripted_lm import ScriptedLM
 
-from talkdem.llm import registry  # noqa: E402
+from talkdem.llm import registry
 
 
 class _Scripted(ScriptedLM):

@@ -34,7 +34,8 @@ def _spec(tmp_path: Path, steps: int = 4) -> Path:
 
 
 def _serial(out: Path, conditions: str) -> None:
-    command = [*SCRIPTED, "run", *RUN, "--max-steps", "4", "--conditions", conditions, "--limit", "2", "--out", str(out)]
+    selection = ["--max-steps", "4", "--conditions", conditions, "--limit", "2"]
+    command = [*SCRIPTED, "run", *RUN, *selection, "--out", str(out)]
     done = subprocess.run(command, capture_output=True, text=True, timeout=300, check=False)
     assert done.returncode == 0, done.stderr
 

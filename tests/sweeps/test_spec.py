@@ -10,6 +10,7 @@ import tomllib
 from pathlib import Path
 
 import pytest
+import yaml
 
 from talkdem.cli import main
 from talkdem.paths import repo_root
@@ -19,7 +20,10 @@ GOOD = """\
 out: OUT
 models:
   - smollm2-135m-instruct
-  - {model: served-7b, backend: openai, label: s7, args: {base_url: [http://127.0.0.1:9/v1, http://127.0.0.1:8/v1], tokenizer: smollm2-135m-instruct, concurrency: 2}}
+  - model: served-7b
+    backend: openai
+    label: s7
+    args: {base_url: [http://127.0.0.1:9/v1, http://127.0.0.1:8/v1], tokenizer: smollm2-135m-instruct, concurrency: 2}
 strategies: [vanilla, {name: care, args: {care_order: best_first}}]
 conditions: [clean, intrusion:1]
 tasks: 2
@@ -53,7 +57,10 @@ def _refused(tmp_path: Path, text: str, capsys: pytest.CaptureFixture[str]) -> s
         (("max_steps: 4", "max_steps: many"), r"planner\.max_steps: 'many' is not a whole number"),
         (("max_steps: 4", "feedback: loud"), r"planner\.feedback: invalid choice: 'loud'"),
         (("concurrency: 2", "concurrency: 1"), r"models\[1\] x strategies\[0\] \(s7, vanilla\): 2 --base-url"),
-        (("care_order: best_first", "care_order: best_first, generation_plain: 1"), r"generation_plain: expected true or false"),
+        (
+            ("care_order: best_first", "care_order: best_first, generation_plain: 1"),
+            r"generation_plain: expected true or false",
+        ),
         (("backend: openai", "backend: gpt"), r"models\[1\]\.backend: expected one of"),
         (("{name: care, args:", "{name: care, label: vanilla, args:"), r"writes .*vanilla, as models\[0\] x "),
         (("out: OUT\n", ""), r"out: missing"),
@@ -93,7 +100,8 @@ def test_the_dry_run_prints_every_run_and_writes_nothing(tmp_path: Path, capsys:
     assert all(len(r.episode_ids) == 4 for r in spec.runs)  # 2 tasks x 2 conditions
     assert printed.splitlines()[0].endswith(f"4 runs, 16 episodes, into {tmp_path / 'out'}")
     for run in spec.runs:
-        assert f"{run.run_dir}: {run.backend} {run.model}, {run.strategy}, 4 episodes (0 on disk), 2 shard(s)" in printed
+        line = f"{run.run_dir}: {run.backend} {run.model}, {run.strategy}, 4 episodes (0 on disk), 2 shard(s)"
+        assert line in printed
     commands = [line.strip() for line in printed.splitlines() if line.strip().startswith("talkdem run ")]
     assert len(commands) == 4
     assert "--threads" in commands[0] and "--threads" not in commands[2]  # a served model computes elsewhere
@@ -119,6 +127,8 @@ def test_the_readme_example_specs_expand_as_the_readme_says(capsys: pytest.Captu
         claim = re.search(rf"`{re.escape(name)}`[^\n]*?(\d+) runs, ([\d,]+) episodes", section)
         assert claim is not None, f"the README says nothing of {name}'s size"
         assert (claim.group(1), claim.group(2).replace(",", "")) == (runs, episodes)
+    (shown,) = re.findall(r"```yaml\n(# examples/sweep-smoke.yaml\n.*?)```", section, flags=re.DOTALL)
+    assert yaml.safe_load(shown) == yaml.safe_load((repo_root() / "examples" / "sweep-smoke.yaml").read_text())
 
 
 def test_the_dry_run_imports_no_heavy_library_nor_ray() -> None:
@@ -126,7 +136,8 @@ def test_the_dry_run_imports_no_heavy_library_nor_ray() -> None:
         "import sys\n"
         "from talkdem.cli import main\n"
         f"main(['sweep', {str(repo_root() / 'examples' / 'sweep-paper.yaml')!r}, '--dry-run'])\n"
-        "heavy = [m for m in ('torch', 'transformers', 'sentence_transformers', 'llama_cpp', 'ray') if m in sys.modules]\n"
+        "heavy = [m for m in ('torch', 'transformers', 'sentence_transformers', 'llama_cpp', 'ray')\n"
+        "         if m in sys.modules]\n"
         "print('HEAVY', heavy, file=sys.stderr)\n"
     )
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
