@@ -29,7 +29,8 @@ $(STAMP): pyproject.toml
 
 # The default model runs on llama.cpp (demo, bench), and the test suite also exercises its OpenAI-compatible
 # server: llama-cpp-python has no wheel on PyPI and compiles here (about 6 minutes on 2 cores, once per venv).
-# The inspect_ai task is tested with a local llama-cpp-python server (the `inspect` extra).
+# The inspect_ai task is tested with a local llama-cpp-python server (the `inspect` extra), `talkdem sweep --ray`
+# on a local Ray cluster (the `ray` extra).
 # The browser tests render the leaderboard and the report in headless Chromium (Debian's package; CI runs as root).
 CHROMIUM := test -x /usr/bin/chromium || (apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y chromium)
 
@@ -37,7 +38,7 @@ setup-test: $(TEST_STAMP)
 	$(CHROMIUM)
 
 $(TEST_STAMP): $(STAMP)
-	$(BIN)/python -m pip install --quiet "torch==2.13.0" -e ".[dev,llamacpp,inspect]"
+	$(BIN)/python -m pip install --quiet "torch==2.13.0" -e ".[dev,llamacpp,inspect,ray]"
 	$(CHROMIUM)
 	touch $(TEST_STAMP)
 

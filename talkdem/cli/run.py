@@ -3,13 +3,22 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from talkdem.cli.arguments import folder_path, non_negative_int, positive_int
 from talkdem.sim.seam import DEFAULT_MAX_STEPS
 
-__all__ = ["register"]
+if TYPE_CHECKING:
+    from talkdem.instructions import Instruction
+    from talkdem.llm.base import LanguageModel
+    from talkdem.planner.react import ReActConfig
+    from talkdem.planner.saycan import SayCanConfig
+    from talkdem.planner.strategies import Strategy
+
+__all__ = ["ModelLoader", "RunPlan", "StrategyLoader", "plan_run", "register", "run"]
 
 
 def register(subparsers: Any) -> None:
@@ -137,12 +146,26 @@ def register(subparsers: Any) -> None:
     parser.set_defaults(handler=run)
 
 
-def run(args: argparse.Namespace) -> int:
-    from talkdem.llm.registry import load_model
+@dataclass(frozen=True)
+class RunPlan:
+    """What `talkdem run` will do, decided from its arguments alone (no model loaded): every check of the
+    arguments is made here, so `talkdem sweep` can validate a whole grid before anything starts."""
+
+    episodes: list[Instruction]
+    extra: dict[str, object]
+    """The selection (conditions, sample size, shard, threads) recorded in the header."""
+    options: dict[str, Any]
+    """The backend's constructor options."""
+    urls: list[str | None]
+    config: SayCanConfig | ReActConfig
+    strategy_options: dict[str, object]
+    backend_args: dict[str, str | int | float | bool]
+
+
+def plan_run(args: argparse.Namespace) -> RunPlan:
+    """The run `args` describe; a bad combination of arguments is a ValueError naming the flags."""
     from talkdem.planner.react import ReActConfig
     from talkdem.planner.saycan import SayCanConfig
-    from talkdem.planner.strategies import load_strategy
-    from talkdem.runs.runner import run_episodes
     from talkdem.runs.sampling import select_episodes
     from talkdem.schema import parse_conditions
 
@@ -200,26 +223,12 @@ def run(args: argparse.Namespace) -> int:
         # llama.cpp's kernels split work by thread count, which can move scores in the last digits: the
         # header says how the run was computed (the last sitting's count, when a resume changed it).
         extra["threads"] = args.threads
-    urls = args.base_url or [None]
+    urls: list[str | None] = list(args.base_url or [None])
     if len(urls) > args.concurrency:
         raise ValueError(
             f"{len(urls)} --base-url but --concurrency {args.concurrency}: give --concurrency at least "
             f"{len(urls)} so that every server gets episodes"
         )
-    if args.cache is not None:
-        from talkdem.llm.cache import open_cache
-
-        open_cache(args.cache).close()  # a bad --cache file fails now, not after the model has loaded
-    clients = []
-    for slot in range(args.concurrency):
-        url = urls[slot % len(urls)]
-        clients.append(load_model(args.backend, args.model, **options, **({"base_url": url} if url else {})))
-    if args.cache is not None:
-        from talkdem.llm.cache import CachedLM
-
-        clients = [CachedLM(client, args.cache) for client in clients]
-    model = clients[0]
-    strategy = load_strategy(args.strategy, **_strategy_args(args))
     config: SayCanConfig | ReActConfig
     if args.planner == "react":
         if args.log_top or args.no_mask_failed or args.scoring != "sum":
@@ -234,6 +243,44 @@ def run(args: argparse.Namespace) -> int:
         config = SayCanConfig.with_feedback(
             feedback, max_steps=args.max_steps, scoring=args.scoring, mode=args.planner, log_top=args.log_top
         )
+    return RunPlan(
+        episodes=episodes,
+        extra=extra,
+        options=options,
+        urls=urls,
+        config=config,
+        strategy_options=_strategy_args(args),
+        backend_args=_backend_args(args, options),
+    )
+
+
+ModelLoader = Callable[..., "LanguageModel"]
+"""`load_model(backend, model, **options)`, or a caller's stand-in that keeps models loaded (a Ray actor)."""
+StrategyLoader = Callable[..., "Strategy"]
+"""`load_strategy(name, **options)`, or a caller's stand-in that keeps strategies built."""
+
+
+def run(args: argparse.Namespace, *, load: ModelLoader | None = None, strategies: StrategyLoader | None = None) -> int:
+    from talkdem.llm.registry import load_model
+    from talkdem.planner.strategies import load_strategy
+    from talkdem.runs.runner import run_episodes
+
+    plan = plan_run(args)
+    load = load or load_model
+    if args.cache is not None:
+        from talkdem.llm.cache import open_cache
+
+        open_cache(args.cache).close()  # a bad --cache file fails now, not after the model has loaded
+    clients = []
+    for slot in range(args.concurrency):
+        url = plan.urls[slot % len(plan.urls)]
+        clients.append(load(args.backend, args.model, **plan.options, **({"base_url": url} if url else {})))
+    if args.cache is not None:
+        from talkdem.llm.cache import CachedLM
+
+        clients = [CachedLM(client, args.cache) for client in clients]
+    model = clients[0]
+    strategy = (strategies or load_strategy)(args.strategy, **plan.strategy_options)
     if args.log_top:
         import logging
 
@@ -241,15 +288,15 @@ def run(args: argparse.Namespace) -> int:
     planner = "-react" if args.planner == "react" else ""
     out = args.out or Path("runs") / f"{Path(model.identity.name).name.removesuffix('.gguf')}{planner}-{args.strategy}"
     summary = run_episodes(
-        episodes,
+        plan.episodes,
         model,
         strategy,
         out,
-        config,
-        extra_config=extra,
+        plan.config,
+        extra_config=plan.extra,
         progress=not args.no_progress,
         clients=clients,
-        backend_args=_backend_args(args, options),
+        backend_args=plan.backend_args,
         new_revision_ok=args.continue_on_new_revision,
     )
     print(

@@ -1,0 +1,177 @@
+"""Ray execution (`talkdem sweep --ray auto|ADDRESS`): each model's jobs (its runs, or their shards) are Ray
+tasks of a pool of actors (`ShardWorker`), one model loaded per actor; served models are reached by their URLs
+from wherever the actor runs. Ray places the actors and tasks (the pool hands the next job to the next free
+actor: `ray.util.ActorPool`); nothing here schedules. Results come back to the driver, which writes them into
+the sweep's folders and merges as the local executor does, so a finished run is the same either way.
+
+Ray is the optional extra `ray`, imported only here and only when asked for.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from talkdem.runs.store import run_lock
+from talkdem.sweeps.actor import RUN_FILES, ShardWorker
+from talkdem.sweeps.book import JobBook
+from talkdem.sweeps.progress import SweepProgress
+from talkdem.sweeps.spec import SweepRun
+from talkdem.sweeps.work import Job
+
+__all__ = ["actor_resources", "connect", "default_workers", "run_ray"]
+
+# The extra's own requirement (pyproject.toml; a test keeps the two together), and the checkout and wheel forms:
+# TALK-Dem is not on PyPI, so `pip install 'talkdem[ray]'` finds nothing.
+_MISSING = (
+    "Ray is not installed (the optional extra `ray`): `pip install 'ray[default]==2.60.0'`, or from a checkout "
+    "`pip install -e '.[ray]'`, or with the wheel `pip install 'PATH/TO/talkdem-VERSION-py3-none-any.whl[ray]'`; "
+    "every node of the cluster needs the same Ray version"
+)
+_POLL_SECONDS = 5.0
+
+
+def _ray() -> Any:
+    try:
+        import ray
+    except ImportError:
+        raise ImportError(_MISSING) from None
+    return ray
+
+
+def connect(address: str) -> bool:
+    """Connect this process to the Ray cluster at `address` (`auto`: the one `ray start` left running here or
+    `RAY_ADDRESS` names; `HOST:PORT`; `ray://HOST:PORT`; `local`: a new one for this process alone). True when
+    this call connected (and should disconnect); an existing connection is used as it is."""
+    ray = _ray()
+    if ray.is_initialized():
+        return False
+    try:
+        ray.init(address=address, logging_level="ERROR", configure_logging=True)
+    except (ConnectionError, RuntimeError, ValueError) as error:
+        raise ValueError(f"--ray {address}: cannot connect to a Ray cluster ({str(error).splitlines()[0]})") from None
+    return True
+
+
+def actor_resources(run: SweepRun, threads: int) -> dict[str, float]:
+    """What one actor of `run`'s model reserves: the spec's `ray:` settings, else `threads` CPUs for a model
+    computed in the actor (hf, llamacpp) and one CPU for a served one (it waits on its servers)."""
+    resources = dict(run.resources)
+    resources.setdefault("num_cpus", float(threads if run.local_model else 1))
+    return resources
+
+
+def default_workers(run: SweepRun, threads: int) -> int:
+    """How many actors of `run`'s model the connected cluster holds at once (at least one)."""
+    resources = actor_resources(run, threads)
+    available = _ray().cluster_resources()
+    fits = [
+        available.get(kind, 0.0) / amount
+        for kind, amount in (("CPU", resources.get("num_cpus", 1.0)), ("GPU", resources.get("num_gpus", 0.0)))
+        if amount > 0
+    ]
+    return max(1, math.floor(min(fits))) if fits else 1
+
+
+def _seed(target: Path) -> dict[str, bytes]:
+    return {name: (target / name).read_bytes() for name in RUN_FILES if (target / name).is_file()}
+
+
+def _write_back(target: Path, files: dict[str, bytes]) -> None:
+    """The job's run directory as the actor left it, written atomically file by file (episodes first: a header
+    saying more than the episodes would be the only way to lose one)."""
+    if not files:
+        return
+    with run_lock(target):
+        for name in reversed(RUN_FILES):
+            if name in files:
+                scratch = target / f".{name}.{os.getpid()}.tmp"
+                scratch.write_bytes(files[name])
+                os.replace(scratch, target / name)
+
+
+def run_ray(
+    book: JobBook,
+    *,
+    address: str,
+    workers: int | None,
+    threads: int,
+    extra: Sequence[str],
+    progress: SweepProgress,
+) -> dict[str, tuple[int, int]]:
+    """Run every pending job of `book` on the Ray cluster at `address`; returns, per model, the models its
+    actors loaded in all and the jobs they ran (one load per actor, however many jobs)."""
+    ray = _ray()
+    from ray.util import ActorPool
+
+    connected = connect(address)
+    loads: dict[str, tuple[int, int]] = {}
+    try:
+        by_model: dict[int, list[Job]] = {}
+        for job in book.pending():
+            by_model.setdefault(job.run.model_index, []).append(job)
+        for jobs in by_model.values():  # one model at a time: its actors hold the cluster's share for it
+            resources = actor_resources(jobs[0].run, threads)
+            count = max(1, min(workers or default_workers(jobs[0].run, threads), len(jobs)))
+            actor = ray.remote(ShardWorker).options(max_concurrency=2, max_restarts=1, max_task_retries=1, **resources)
+            actors = [actor.remote() for _ in range(count)]
+            try:
+                done = _drain(ray, ActorPool(actors), actors, book, jobs, threads, extra, progress)
+                loads[jobs[0].run.model] = (done, len(jobs))
+            finally:
+                for handle in actors:
+                    ray.kill(handle)
+    finally:
+        if connected:
+            ray.shutdown()
+    return loads
+
+
+def _drain(
+    ray: Any,
+    pool: Any,
+    actors: list[Any],
+    book: JobBook,
+    jobs: list[Job],
+    threads: int,
+    extra: Sequence[str],
+    progress: SweepProgress,
+) -> int:
+    by_key = {job.key: job for job in jobs}
+    for job in jobs:
+        # The seed is read when an actor takes the job (ActorPool calls this then), not when it is queued.
+        pool.submit(lambda a, j: a.run_job.remote(j.key, j.command(threads, extra, out=False), _seed(j.target)), job)
+    answered: set[str] = set()
+    live: dict[str, int] = {}
+    while pool.has_next():
+        try:
+            key, files, error = pool.get_next_unordered(timeout=_POLL_SECONDS)
+        except TimeoutError:
+            for report in ray.get([a.progress.remote() for a in actors]):
+                if report is not None:
+                    live[report[0]] = report[1]
+            progress.update(*book.done(live))
+            continue
+        except ray.exceptions.RayError as failure:
+            # An actor died past its restarts: its job is the one with no answer (named below).
+            book.failures.append(f"a Ray actor failed: {str(failure).splitlines()[0]}")
+            continue
+        job = by_key[key]
+        answered.add(key)
+        live.pop(key, None)
+        _write_back(job.target, files)
+        if error:
+            book.failed(job, error)
+        else:
+            book.finished(job)
+        progress.update(*book.done(live))
+    for key, job in by_key.items():
+        if key not in answered:
+            book.failed(job, "no answer from its Ray actor (it died); run the sweep again to resume")
+    try:
+        return sum(ray.get([a.model_loads.remote() for a in actors]))
+    except ray.exceptions.RayError:  # an actor that died holds no count
+        return -1

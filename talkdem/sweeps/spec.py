@@ -1,0 +1,387 @@
+"""The sweep spec: a YAML file naming models x strategies x conditions x tasks (and planner settings), read into
+one `SweepRun` per (model, strategy), each an ordinary `talkdem run` directory under the spec's output root.
+
+    out: runs/pilot                      # the output root (relative to the current folder, as `--out` is)
+    models:
+      - smollm2-135m-instruct            # a name of `talkdem models`, a GGUF file, a model id or a served name
+      - model: qwen7b
+        backend: openai                  # default llamacpp
+        label: qwen7b-sglang             # the run folder's prefix (default: the model's file or name)
+        args: {base_url: [http://10.0.0.5:30000], tokenizer: Qwen/Qwen2.5-7B-Instruct, scoring_api: sglang}
+        ray: {num_cpus: 1}               # the resources of one Ray actor of this model
+    strategies: [vanilla, {name: care, args: {care_order: best_last}}]
+    conditions: [clean, intrusion:3]     # default: all 16
+    tasks: 60                            # stratified over task types; default: all 300
+    planner: {type: scoring, max_steps: 10, feedback: message}
+
+Every value is validated by `talkdem run`'s own parser and argument checks (`plan_run`), before anything runs:
+the keys of `args`, `planner` and a strategy's `args` are `talkdem run`'s option names (`base_url` for
+`--base-url`), so a setting means exactly what the flag means, and a bad one is one line naming the file, the
+key and what was expected.
+"""
+
+from __future__ import annotations
+
+import argparse
+import difflib
+import functools
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+__all__ = [
+    "MODEL_ARGS",
+    "PLANNER_ARGS",
+    "STRATEGY_ARGS",
+    "SweepRun",
+    "SweepSpec",
+    "SweepSpecError",
+    "load_sweep",
+    "run_parser",
+]
+
+MODEL_ARGS = ("base_url", "tokenizer", "scoring_api", "prompt_format", "bos", "concurrency", "timeout")
+"""`talkdem run` options a model entry's `args` may set (how the model is reached)."""
+PLANNER_ARGS = {
+    "type": "planner",
+    "max_steps": "max_steps",
+    "scoring": "scoring",
+    "feedback": "feedback",
+    "thought_tokens": "thought_tokens",
+    "log_top": "log_top",
+    "no_mask_failed": "no_mask_failed",
+}
+"""`planner:` keys and the `talkdem run` option each sets (`type` is `--planner`)."""
+STRATEGY_ARGS = ("care_order", "care_dedupe", "generation_tokens", "generation_plain")
+"""`talkdem run` options a strategy entry's `args` may set."""
+
+_TOP_KEYS = ("out", "models", "strategies", "conditions", "tasks", "planner", "shards")
+_MODEL_KEYS = ("model", "backend", "label", "args", "ray")
+_STRATEGY_KEYS = ("name", "label", "args")
+_RAY_KEYS = ("num_cpus", "num_gpus")
+_LABEL = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
+LOCAL_BACKENDS = ("hf", "llamacpp")
+"""Backends that compute in the worker's own process: `--threads` applies, and a Ray actor reserves that many
+CPUs."""
+
+
+class SweepSpecError(ValueError):
+    """A spec that cannot be run: the message names the file and the key."""
+
+
+class _Refused(Exception):
+    pass
+
+
+class _RaisingParser(argparse.ArgumentParser):
+    """`talkdem run`'s parser, raising instead of exiting, so its message can name the spec's key."""
+
+    def error(self, message: str) -> Any:  # argparse's signature returns NoReturn
+        raise _Refused(message)
+
+
+@functools.cache
+def run_parser() -> argparse.ArgumentParser:
+    """A parser of `talkdem run ARGS` that raises `ValueError` (not `SystemExit`) on a bad argument."""
+    from talkdem.cli import run as run_command
+
+    root = _RaisingParser(prog="talkdem", add_help=False)
+    run_command.register(root.add_subparsers(dest="command"))
+    return root
+
+
+def _run_actions() -> dict[str, argparse.Action]:
+    parser = run_parser()
+    (subparsers,) = (a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return {action.dest: action for action in subparsers.choices["run"]._actions}
+
+
+@dataclass(frozen=True)
+class SweepRun:
+    """One (model, strategy) of the sweep: a `talkdem run` directory."""
+
+    name: str
+    run_dir: Path
+    model: str
+    backend: str
+    strategy: str
+    argv: tuple[str, ...]
+    """`talkdem run` arguments, without `--out`, `--shard`, `--threads` and `--no-progress` (the executor's)."""
+    episode_ids: tuple[str, ...]
+    """The run's selection, in its order."""
+    model_index: int
+    """Which entry of `models` (a Ray actor holds one model, and serves every strategy of it)."""
+    resources: Mapping[str, float] = field(default_factory=dict)
+    """A Ray actor's resources as the spec gives them (`num_cpus`, `num_gpus`)."""
+
+    @property
+    def local_model(self) -> bool:
+        return self.backend in LOCAL_BACKENDS
+
+    def command(self, *, out: Path | None = None, threads: int | None = None, shard: str | None = None) -> list[str]:
+        """The `talkdem run` arguments of this run (or of one shard of it); `out` None: the caller adds it."""
+        argv = [*self.argv, *(["--out", str(out)] if out is not None else [])]
+        if shard:
+            argv += ["--shard", shard]
+        if threads and self.local_model:
+            argv += ["--threads", str(threads)]
+        return argv
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    path: Path
+    out: Path
+    runs: tuple[SweepRun, ...]
+    conditions: str | None
+    """As `talkdem run --conditions` takes them (None: all 16)."""
+    tasks: int | None
+    shards: int | None
+
+
+def _where(path: Path, key: str) -> str:
+    return f"{path}: {key}"
+
+
+def _fail(path: Path, key: str, message: str) -> SweepSpecError:
+    return SweepSpecError(f"{_where(path, key)}: {message}")
+
+
+def _unknown_keys(path: Path, key: str, data: Mapping[str, Any], allowed: Sequence[str]) -> None:
+    for name in data:
+        if name not in allowed:
+            close = difflib.get_close_matches(str(name), allowed, n=1)
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            raise _fail(path, f"{key}{name}", f"unknown key{hint}; expected one of {', '.join(allowed)}")
+
+
+def _mapping(path: Path, key: str, value: object) -> Mapping[str, Any]:
+    if not isinstance(value, Mapping):
+        raise _fail(path, key, f"expected a mapping (key: value), got {_kind(value)}")
+    return value
+
+
+def _kind(value: object) -> str:
+    if value is None:
+        return "nothing"
+    return {bool: "true/false", int: "a number", float: "a number", str: "a string", list: "a list"}.get(
+        type(value), "a mapping" if isinstance(value, Mapping) else type(value).__name__
+    )
+
+
+def _text(path: Path, key: str, value: object) -> str:
+    if not isinstance(value, str) or not value.strip():
+        raise _fail(path, key, f"expected a non-empty string, got {_kind(value)}")
+    return value
+
+
+def _label(path: Path, key: str, value: object) -> str:
+    text = _text(path, key, value)
+    if not _LABEL.fullmatch(text):
+        raise _fail(path, key, f"'{text}' is not a folder name (letters, digits, '.', '_', '-')")
+    return text
+
+
+def _positive(path: Path, key: str, value: object) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise _fail(path, key, f"expected a whole number of at least 1, got {value!r}")
+    return value
+
+
+def _flags(path: Path, key: str, values: Mapping[str, Any], names: Mapping[str, str]) -> list[str]:
+    """`talkdem run` arguments for `{spec key: value}` (`names`: spec key -> option dest), each value checked
+    by the option itself."""
+    _unknown_keys(path, key, values, list(names))
+    actions = _run_actions()
+    argv: list[str] = []
+    for name, value in values.items():
+        action = actions[names[name]]
+        flag = action.option_strings[-1]
+        where = f"{key}{name}"
+        if action.nargs == 0:  # a switch: true turns it on
+            if not isinstance(value, bool):
+                raise _fail(path, where, f"expected true or false, got {_kind(value)}")
+            given = [flag] if value else []
+        else:
+            items = value if isinstance(value, list) and isinstance(action, argparse._AppendAction) else [value]
+            if not items or any(isinstance(v, bool | list | dict) or v is None for v in items):
+                plural = "a value or a list of values" if isinstance(action, argparse._AppendAction) else "a value"
+                raise _fail(path, where, f"expected {plural}, got {_kind(value)}")
+            given = [part for item in items for part in (flag, str(item))]
+        try:
+            run_parser().parse_args(["run", *given])
+        except _Refused as refused:
+            message = str(refused).removeprefix(f"argument {'/'.join(action.option_strings)}: ")
+            raise _fail(path, where, message) from None
+        argv += given
+    return argv
+
+
+def _conditions(path: Path, value: object) -> str | None:
+    from talkdem.schema import parse_conditions
+
+    if value is None:
+        return None
+    items = value.split(",") if isinstance(value, str) else value
+    if not isinstance(items, list) or not items or not all(isinstance(c, str) for c in items):
+        raise _fail(path, "conditions", f"expected a list of conditions (clean, PATTERN, PATTERN:LEVEL), got {value!r}")
+    text = ",".join(c.strip() for c in items)
+    try:
+        parse_conditions(text)
+    except ValueError as error:
+        raise _fail(path, "conditions", str(error)) from None
+    return text
+
+
+def _tasks(path: Path, value: object) -> int | None:
+    if value is None or value == "all":
+        return None
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise _fail(path, "tasks", f"expected a number of tasks (at least 1) or 'all', got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class _Model:
+    index: int
+    model: str
+    backend: str
+    label: str
+    argv: tuple[str, ...]
+    resources: dict[str, float]
+
+
+def _models(path: Path, value: object) -> list[_Model]:
+    from talkdem.llm.registry import BACKENDS
+
+    if not isinstance(value, list) or not value:
+        raise _fail(path, "models", f"expected a non-empty list of models, got {_kind(value)}")
+    models = []
+    for index, entry in enumerate(value):
+        key = f"models[{index}]"
+        entry = {"model": entry} if isinstance(entry, str) else _mapping(path, key, entry)
+        _unknown_keys(path, f"{key}.", entry, _MODEL_KEYS)
+        if "model" not in entry:
+            raise _fail(path, f"{key}.model", "missing: name the model (`talkdem models`, a file, an id or a name)")
+        model = _text(path, f"{key}.model", entry["model"])
+        backend = entry.get("backend", "llamacpp")
+        if backend not in BACKENDS:
+            raise _fail(path, f"{key}.backend", f"expected one of {', '.join(BACKENDS.names())}, got {backend!r}")
+        default_label = Path(model).name.removesuffix(".gguf")
+        label = _label(path, f"{key}.label", entry.get("label", default_label))
+        argv = _flags(path, f"{key}.args.", _mapping(path, f"{key}.args", entry.get("args", {})), _same(MODEL_ARGS))
+        ray = _mapping(path, f"{key}.ray", entry.get("ray", {}))
+        _unknown_keys(path, f"{key}.ray.", ray, _RAY_KEYS)
+        resources: dict[str, float] = {}
+        for name, amount in ray.items():
+            if isinstance(amount, bool) or not isinstance(amount, int | float) or amount < 0:
+                raise _fail(path, f"{key}.ray.{name}", f"expected a number of at least 0, got {amount!r}")
+            resources[name] = float(amount)
+        models.append(
+            _Model(index, model, str(backend), label, ("--model", model, "--backend", backend, *argv), resources)
+        )
+    return models
+
+
+def _same(names: Sequence[str]) -> dict[str, str]:
+    return {name: name for name in names}
+
+
+def _strategies(path: Path, value: object) -> list[tuple[str, str, tuple[str, ...], str]]:
+    """(name, label, argv, key) per strategy entry."""
+    from talkdem.planner.strategies import STRATEGIES
+
+    if not isinstance(value, list) or not value:
+        raise _fail(path, "strategies", f"expected a non-empty list of strategies, got {_kind(value)}")
+    strategies = []
+    for index, entry in enumerate(value):
+        key = f"strategies[{index}]"
+        entry = {"name": entry} if isinstance(entry, str) else _mapping(path, key, entry)
+        _unknown_keys(path, f"{key}.", entry, _STRATEGY_KEYS)
+        name = entry.get("name")
+        if name not in STRATEGIES:
+            close = difflib.get_close_matches(str(name), STRATEGIES.names(), n=1)
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            raise _fail(path, f"{key}.name", f"expected one of {', '.join(STRATEGIES.names())}, got {name!r}{hint}")
+        label = _label(path, f"{key}.label", entry.get("label", name))
+        argv = _flags(path, f"{key}.args.", _mapping(path, f"{key}.args", entry.get("args", {})), _same(STRATEGY_ARGS))
+        strategies.append((str(name), label, ("--strategy", str(name), *argv), key))
+    return strategies
+
+
+def load_sweep(path: Path, out: Path | None = None) -> SweepSpec:
+    """Read and validate the spec at `path` (`out`: the output root, instead of the spec's `out`)."""
+    import yaml
+
+    from talkdem.cli.run import plan_run
+
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SweepSpecError(f"{path}: no such spec file") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise SweepSpecError(f"{path}: cannot read the spec ({error})") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark is not None else "YAML"
+        problem = getattr(error, "problem", None) or str(error).splitlines()[0]
+        raise SweepSpecError(f"{path}: {where}: not valid YAML ({problem})") from None
+    top = _mapping(path, "(top level)", data)
+    _unknown_keys(path, "", top, _TOP_KEYS)
+    if out is None:
+        if "out" not in top:
+            raise _fail(path, "out", "missing: the output root of the sweep's run directories (or give --out)")
+        out = Path(_text(path, "out", top["out"]))
+    conditions = _conditions(path, top.get("conditions"))
+    tasks = _tasks(path, top.get("tasks"))
+    shards = _positive(path, "shards", top["shards"]) if "shards" in top else None
+    planner_argv = _flags(path, "planner.", _mapping(path, "planner", top.get("planner", {})), PLANNER_ARGS)
+    react = "--planner" in planner_argv and planner_argv[planner_argv.index("--planner") + 1] == "react"
+    if "models" not in top:
+        raise _fail(path, "models", "missing: a list of models")
+    if "strategies" not in top:
+        raise _fail(path, "strategies", "missing: a list of strategies")
+    models = _models(path, top["models"])
+    strategies = _strategies(path, top["strategies"])
+    selection = [*(["--conditions", conditions] if conditions else []), *(["--limit", str(tasks)] if tasks else [])]
+    parser = run_parser()
+    runs: list[SweepRun] = []
+    named: dict[str, str] = {}
+    for model in models:
+        for strategy, label, strategy_argv, strategy_key in strategies:
+            name = f"{model.label}{'-react' if react else ''}-{label}"
+            which = f"models[{model.index}] x {strategy_key}"
+            if name in named:
+                raise _fail(
+                    path,
+                    which,
+                    f"writes {out / name}, as {named[name]} does: give one of them another label",
+                )
+            named[name] = which
+            argv = (*model.argv, *strategy_argv, *planner_argv, *selection)
+            run = SweepRun(
+                name, out / name, model.model, model.backend, strategy, argv, (), model.index, model.resources
+            )
+            try:
+                # The run's own checks, as `talkdem run` makes them (threads: as the executor will pass them)
+                plan = plan_run(parser.parse_args(["run", *run.command(out=run.run_dir, threads=1), "--no-progress"]))
+            except (_Refused, ValueError) as error:
+                raise _fail(path, f"{which} ({model.label}, {label})", str(error)) from None
+            runs.append(
+                SweepRun(
+                    name,
+                    out / name,
+                    model.model,
+                    model.backend,
+                    strategy,
+                    argv,
+                    tuple(i.id for i in plan.episodes),
+                    model.index,
+                    model.resources,
+                )
+            )
+    return SweepSpec(path, out, tuple(runs), conditions, tasks, shards)

@@ -1,0 +1,162 @@
+"""The sweep spec: every mistake is one line naming the file, the key and what was expected (exit 2, no
+traceback); the dry run prints the expansion and writes nothing; the README's example specs expand as it says."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+import yaml
+
+from talkdem.cli import main
+from talkdem.paths import repo_root
+from talkdem.sweeps import load_sweep
+
+GOOD = """\
+out: OUT
+models:
+  - smollm2-135m-instruct
+  - model: served-7b
+    backend: openai
+    label: s7
+    args: {base_url: [http://127.0.0.1:9/v1, http://127.0.0.1:8/v1], tokenizer: smollm2-135m-instruct, concurrency: 2}
+strategies: [vanilla, {name: care, args: {care_order: best_first}}]
+conditions: [clean, intrusion:1]
+tasks: 2
+planner: {max_steps: 4}
+"""
+
+
+def _spec(tmp_path: Path, text: str) -> Path:
+    path = tmp_path / "sweep.yaml"
+    path.write_text(text.replace("OUT", str(tmp_path / "out")))
+    return path
+
+
+def _refused(tmp_path: Path, text: str, capsys: pytest.CaptureFixture[str]) -> str:
+    path = _spec(tmp_path, text)
+    assert main(["sweep", str(path), "--dry-run"]) == 2
+    error = capsys.readouterr().err
+    assert len(error.strip().splitlines()) == 1 and "Traceback" not in error, error
+    assert str(path) in error
+    return error
+
+
+@pytest.mark.parametrize(
+    ("change", "expected"),
+    [
+        (("tasks: 2", "tasks: 0"), r"tasks: expected a number of tasks \(at least 1\) or 'all', got 0"),
+        (("tasks: 2", "taks: 2"), r"taks: unknown key \(did you mean 'tasks'\?\)"),
+        (("intrusion:1", "intrusion:7"), r"conditions: condition 'intrusion:7': the level must be 1, 2 or 3"),
+        (("[vanilla,", "[vanila,"), r"strategies\[0\]\.name: expected one of .* \(did you mean 'vanilla'\?\)"),
+        (("max_steps: 4", "max_steps: -1"), r"planner\.max_steps: must be at least 1, got -1"),
+        (("max_steps: 4", "max_steps: many"), r"planner\.max_steps: 'many' is not a whole number"),
+        (("max_steps: 4", "feedback: loud"), r"planner\.feedback: invalid choice: 'loud'"),
+        (("concurrency: 2", "concurrency: 1"), r"models\[1\] x strategies\[0\] \(s7, vanilla\): 2 --base-url"),
+        (
+            ("care_order: best_first", "care_order: best_first, generation_plain: 1"),
+            r"generation_plain: expected true or false",
+        ),
+        (("backend: openai", "backend: gpt"), r"models\[1\]\.backend: expected one of"),
+        (("{name: care, args:", "{name: care, label: vanilla, args:"), r"writes .*vanilla, as models\[0\] x "),
+        (("out: OUT\n", ""), r"out: missing"),
+        (("planner: {max_steps: 4}", "planner: [4]"), r"planner: expected a mapping"),
+        (("tasks: 2", "tasks: [2"), r"line \d+: not valid YAML"),
+    ],
+)
+def test_a_bad_spec_is_one_line_naming_the_key(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], change: tuple[str, str], expected: str
+) -> None:
+    assert change[0] in GOOD
+    error = _refused(tmp_path, GOOD.replace(*change), capsys)
+    assert re.search(expected, error), error
+
+
+def test_a_strategy_flag_of_another_strategy_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    error = _refused(tmp_path, GOOD.replace("[vanilla,", "[{name: vanilla, args: {care_dedupe: true}},"), capsys)
+    assert "strategies[0]" in error and "apply to --strategy care, not vanilla" in error
+
+
+def test_a_missing_spec_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["sweep", str(tmp_path / "none.yaml"), "--dry-run"]) == 2
+    assert "none.yaml: no such spec file" in capsys.readouterr().err
+
+
+def test_the_dry_run_prints_every_run_and_writes_nothing(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _spec(tmp_path, GOOD)
+    assert main(["sweep", str(path), "--dry-run", "--workers", "2"]) == 0
+    printed = capsys.readouterr().out
+    spec = load_sweep(path)
+    assert [r.name for r in spec.runs] == [
+        "smollm2-135m-instruct-vanilla",
+        "smollm2-135m-instruct-care",
+        "s7-vanilla",
+        "s7-care",
+    ]
+    assert all(len(r.episode_ids) == 4 for r in spec.runs)  # 2 tasks x 2 conditions
+    assert printed.splitlines()[0].endswith(f"4 runs, 16 episodes, into {tmp_path / 'out'}")
+    for run in spec.runs:
+        line = f"{run.run_dir}: {run.backend} {run.model}, {run.strategy}, 4 episodes (0 on disk), 2 shard(s)"
+        assert line in printed
+    commands = [line.strip() for line in printed.splitlines() if line.strip().startswith("talkdem run ")]
+    assert len(commands) == 4
+    assert "--threads" in commands[0] and "--threads" not in commands[2]  # a served model computes elsewhere
+    assert "--base-url http://127.0.0.1:9/v1 --base-url http://127.0.0.1:8/v1" in commands[2]
+    assert "--care-order best_first" in commands[1] and "--max-steps 4" in commands[0]
+    assert not (tmp_path / "out").exists()
+
+
+def _readme_section() -> str:
+    text = (repo_root() / "README.md").read_text(encoding="utf-8")
+    start = text.index("\n## Sweeps\n")
+    return text[start : text.find("\n## ", start + 1)]
+
+
+def test_the_readme_example_specs_expand_as_the_readme_says(capsys: pytest.CaptureFixture[str]) -> None:
+    section = _readme_section()
+    named = sorted(set(re.findall(r"examples/[\w.-]+\.yaml", section)))
+    assert named == ["examples/sweep-paper.yaml", "examples/sweep-smoke.yaml"]
+    for name in named:
+        assert main(["sweep", str(repo_root() / name), "--dry-run"]) == 0
+        first = capsys.readouterr().out.splitlines()[0]
+        runs, episodes = re.search(r": (\d+) runs, (\d+) episodes", first).groups()  # type: ignore[union-attr]
+        claim = re.search(rf"`{re.escape(name)}`[^\n]*?(\d+) runs, ([\d,]+) episodes", section)
+        assert claim is not None, f"the README says nothing of {name}'s size"
+        assert (claim.group(1), claim.group(2).replace(",", "")) == (runs, episodes)
+    (shown,) = re.findall(r"```yaml\n(# examples/sweep-smoke.yaml\n.*?)```", section, flags=re.DOTALL)
+    assert yaml.safe_load(shown) == yaml.safe_load((repo_root() / "examples" / "sweep-smoke.yaml").read_text())
+
+
+def test_the_dry_run_imports_no_heavy_library_nor_ray() -> None:
+    code = (
+        "import sys\n"
+        "from talkdem.cli import main\n"
+        f"main(['sweep', {str(repo_root() / 'examples' / 'sweep-paper.yaml')!r}, '--dry-run'])\n"
+        "heavy = [m for m in ('torch', 'transformers', 'sentence_transformers', 'llama_cpp', 'ray')\n"
+        "         if m in sys.modules]\n"
+        "print('HEAVY', heavy, file=sys.stderr)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert "HEAVY []" in result.stderr
+
+
+def test_ray_missing_is_one_line_naming_the_extra(tmp_path: Path) -> None:
+    # A `ray` that cannot be imported (None in sys.modules), as on an install without the extra.
+    code = (
+        "import sys\n"
+        "sys.modules['ray'] = None\n"
+        "from talkdem.cli import main\n"
+        f"sys.exit(main(['sweep', {str(_spec(tmp_path, GOOD))!r}, '--ray', 'auto']))\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert result.returncode == 2 and len(result.stderr.strip().splitlines()) == 1
+    assert "Ray is not installed (the optional extra `ray`)" in result.stderr
+    (requirement,) = tomllib.loads((repo_root() / "pyproject.toml").read_text())["project"]["optional-dependencies"][
+        "ray"
+    ]
+    assert f"pip install '{requirement}'" in result.stderr and "pip install -e '.[ray]'" in result.stderr
+    assert not (tmp_path / "out").exists()
