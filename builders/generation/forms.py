@@ -46,12 +46,12 @@ FORMS: dict[tuple[str, int], Form] = {
     ),
     ("object_substitution", 1): Form(
         {"words between the wrong object and the name": (1, 4)},
-        {"a short remark on the slip after the request": 0.3},
+        {"a short remark on the slip after the request": 0.2, "the name said twice": 0.6},
         "a wrong in-scene object at the target's first mention, corrected within the phrase",
     ),
     ("object_substitution", 2): Form(
         {"correction sentences": (1, 2)},
-        {"the wrong object named again in the correction": 0.5},
+        {"the name said twice": 0.6},
         "the wrong object stays through the request; the correction follows it, before any closing thanks",
     ),
     ("object_substitution", 3): Form(
@@ -61,7 +61,7 @@ FORMS: dict[tuple[str, int], Form] = {
     ),
     ("empty_speech", 1): Form(
         {"fillers inside the request": (1, 1), "empty sentences": (0, 1)},
-        {"an empty sentence after the request": 0.3},
+        {},
         "one filler at a phrase boundary inside the request (at most three fillers in a row anywhere)",
     ),
     ("empty_speech", 2): Form(
@@ -76,31 +76,31 @@ FORMS: dict[tuple[str, int], Form] = {
     ),
     ("topic_drift", 1): Form(
         {"drift sentences": (1, 2), "scene objects": (1, 1)},
-        {"the remark ties a task object to a scene object": 0.6},
+        {"the remark ties a task object to a scene object": 0.9},
         "after the complete request (and its thanks): one remark on a scene object, sometimes a short aside",
     ),
     ("topic_drift", 2): Form(
         {"drift sentences": (2, 3), "scene objects": (2, 2)},
-        {"the remark ties a task object to a scene object": 0.5},
+        {"the remark ties a task object to a scene object": 0.8},
         "after the request: a remark on a scene object, then a memory of the speaker's own",
     ),
     ("topic_drift", 3): Form(
-        {"drift sentences": (4, 5), "scene objects": (3, 3)},
-        {"the remark ties a task object to a scene object": 0.4},
+        {"drift sentences": (4, 5), "scene objects": (3, 4)},
+        {"the remark ties a task object to a scene object": 0.7},
         "after the request: a remark, two memories, then the speaker's life far from the task",
     ),
     ("intrusion", 1): Form(
-        {"intrusion sentences": (1, 2)},
-        {"the intrusion is cut in with a comma (else a full stop)": 0.6},
+        {"intrusion sentences": (1, 1)},
+        {"the intrusion is cut in with a comma (else an ellipsis, a sentence more)": 0.6},
         "at a phrase boundary drawn at random inside the request; the request resumes after a lead-in",
     ),
     ("intrusion", 2): Form(
-        {"intrusion sentences": (2, 3)},
-        {"the intrusion is cut in with a comma (else a full stop)": 0.5},
+        {"intrusion sentences": (2, 2)},
+        {"the intrusion is cut in with a comma (else an ellipsis, a sentence more)": 0.5},
         "at a phrase boundary drawn at random inside the request; the request resumes after a lead-in",
     ),
     ("intrusion", 3): Form(
-        {"fragments in the first intrusion": (2, 3), "sentences in the second intrusion": (1, 2)},
+        {"fragments in the first intrusion": (2, 3), "sentences in the second intrusion": (1, 1)},
         {},
         "a fragmented intrusion at a random boundary, a restatement of the request so far, a second thought",
     ),

@@ -18,6 +18,7 @@ __all__ = ["KINDS", "OBJECT_KINDS", "Noun", "kinds_of", "noun", "of_kinds"]
 
 KINDS: dict[str, str] = {
     "food": "something to eat (fruit, vegetables, bread, eggs)",
+    "produce": "food that grows in a garden (apple, tomato, potato, lettuce)",
     "cutlery": "a knife, fork, spoon or kitchen tool held in the hand",
     "crockery": "a cup, mug, bowl or plate",
     "cookware": "a pan, pot or kettle",
@@ -46,7 +47,7 @@ OBJECT_KINDS: dict[str, frozenset[str]] = {
     name: frozenset(kinds)
     for name, kinds in {
         "AlarmClock": {"gadget", "keepsake"},
-        "Apple": {"food"},
+        "Apple": {"food", "produce"},
         "ArmChair": {"seat"},
         "BaseballBat": {"sport"},
         "BasketBall": {"sport"},
@@ -97,7 +98,7 @@ OBJECT_KINDS: dict[str, frozenset[str]] = {
         "Lamp": {"lamp"},
         "Laptop": {"gadget"},
         "LaundryHamper": {"bin"},
-        "Lettuce": {"food"},
+        "Lettuce": {"food", "produce"},
         "Microwave": {"appliance"},
         "Mirror": {"picture"},
         "Mug": {"crockery", "keepsake"},
@@ -114,7 +115,7 @@ OBJECT_KINDS: dict[str, frozenset[str]] = {
         "Plunger": {"toiletry"},
         "Poster": {"picture"},
         "Pot": {"cookware"},
-        "Potato": {"food"},
+        "Potato": {"food", "produce"},
         "RemoteControl": {"gadget", "pocket"},
         "Safe": {"storage"},
         "SaltShaker": {"bottle"},
@@ -141,7 +142,7 @@ OBJECT_KINDS: dict[str, frozenset[str]] = {
         "Toilet": {"fixture"},
         "ToiletPaper": {"toiletry"},
         "ToiletPaperHanger": {"fixture"},
-        "Tomato": {"food"},
+        "Tomato": {"food", "produce"},
         "Towel": {"textile"},
         "TowelHolder": {"fixture"},
         "Vase": {"keepsake"},

@@ -137,6 +137,20 @@ SEARCH_SENTENCES = (
     "I knew it this morning.",
     "Oh, what's the word.",
 )
+# Level 2: a remark before the name that names people rather than "I" and "it" (the paper's Level 2 pronoun
+# share, 0.308, sits well below its Level 3, 0.351).
+SEARCH_NAMED = (
+    "{Spouse_name} would know the word.",
+    "{Child_name} always knows the names.",
+    "{Grandchild_name} laughs at me for this.",
+    "{Sibling_name} has the same trouble.",
+    "Names were never my strong point.",
+    "My mother was the same with names.",
+    "Names, names.",
+    "{Colleague} used to tease me about names.",
+    "Oh, the name.",
+    "The word, the word.",
+)
 FINAL_NAMINGS = (
     "{Name}. Yes, {name}.",
     "{Name}, that's it.",
@@ -335,6 +349,8 @@ FILLERS = (
     "hmm",
     "here and there",
 )
+# Discourse markers: most inside clusters are one of these (the paper's empty speech is mostly such markers).
+MARKERS = ("you know", "well", "you see", "like", "sort of", "kind of", "um", "uh", "hmm", "anyhow")
 # Discourse words that may join a filler in one cluster (never more than three words of filler in a row).
 FILLER_PARTNERS = ("I mean", "oh", "so", "right", "er", "okay", "mind you", "anyway", "now", "you see")
 EMPTY_LEADS = (
@@ -370,6 +386,26 @@ EMPTY_CORES = (
     "you know how it is",
     "I don't know, really",
 )
+# Empty cores without a pronoun, for Level 3 (whose noun rate and pronoun share the paper keeps near Level 2's).
+EMPTY_CORES_PLAIN = (
+    "the way of the world",
+    "one of those days",
+    "all the same in the end",
+    "no use fussing",
+    "same old story",
+    "the usual business",
+    "the long and short of it",
+    "one way or another",
+    "such a business",
+    "round and round",
+    "here and there",
+    "and so on and so forth",
+    "one thing and another",
+    "all sorts",
+    "such is life",
+    "the way of things",
+    "the same old business",
+)
 EMPTY_TAGS = ("", "", "", ", you know", ", I suppose", ", really", ", kind of", ", sort of", ", and all that", ", eh")
 EMPTY_TAIL_CUES = ("you know", "sort of", "kind of", "and all that", "I don't know")
 
@@ -383,9 +419,18 @@ NEAR_TIED = frames(
     ("*", "{T_the} and {x_the}, that's the two {grandchild_name} always notices.", "*"),
     (HOUSEHOLD, "{X_the} {x_has} been in this house as long as {t_the}.", HOUSEHOLD),
     ("*", "Funny, {x_the} {x_is} right where {t_the} used to be.", "*"),
-    ("food", "{T_the} and {x_the}, my mother grew both in the garden in {hometown}.", "food"),
+    ("produce", "{T_the} and {x_the}, my mother grew both in the garden in {hometown}.", "produce"),
     ("food", "We had {x_a} and {t_a} every Sunday when {child_name} was little.", "food"),
     ("crockery cutlery cookware", "{X_the} goes with {t_the}, it was all one service from {sibling_name}.", "crockery"),
+    ("*", "{Grandchild_name} drew {t_the} and {x_the} for me once, at school.", "*"),
+    ("*", "{T_the} and {x_the}, I could find those two in the dark.", "*"),
+    ("*", "We had {t_a} and {x_a} on {street} too, in the very same spots.", "*"),
+    ("*", "I always think of {spouse_name} when I notice {t_the} next to {x_the}.", "*"),
+    ("*", "{T_the} used to be over by {x_the}, before {child2_name} rearranged everything.", "*"),
+    ("*", "My mother kept {t_a} by {x_a} too, in {hometown}.", "*"),
+    ("*", "{Pet} used to sleep between {t_the} and {x_the}.", "*"),
+    ("*", "{Friend_name} always comments on {t_the} and {x_the}.", "*"),
+    ("*", "Funny how {t_the} and {x_the} have both lasted longer than the house on {street}.", "*"),
 )
 NEAR = frames(
     (HOUSEHOLD, "{X_that} {x_has} been here for ages."),
@@ -422,7 +467,7 @@ MEMORY = frames(
     ("crockery cookware food cutlery", "{Colleague} at {workplace} always had {x_a} on the go."),
     ("keepsake textile sport", "{Grandchild_name} used to hide {x_the} when {grandchild_he} was tiny."),
     ("sport", "{Child_name} broke a pane with {x_a} once, playing in the yard."),
-    ("food", "We grew our own, you know, {x_the} and all, on the allotment in {hometown}."),
+    ("produce", "We grew our own, you know, {x_the} and all, on the allotment in {hometown}."),
     ("food", "My mother sent me to the shop for {x_a} every Saturday."),
     ("food", "At {holiday} we lived on {x_the} and chips."),
     ("seat", "{Spouse_name} fell asleep in {x_one} like {x_that} every evening.", "", False),

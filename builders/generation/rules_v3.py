@@ -264,7 +264,7 @@ class RulesV3Generator:
             changed = self._replace(parts, segment, np, vague)
             later = []
             if draw(rng, "referential_imprecision", 2, "word-search sentences before the name"):
-                later.append(rng.choice(V.SEARCH_SENTENCES).format(**fmt))
+                later.append(rng.choice(V.SEARCH_NAMED).format(**fmt))
             core = rng.choice(V.NAME_CORES).format(**fmt)
             lead = rng.choice(V.NAME_LEADS)
             tag = (
@@ -321,7 +321,9 @@ class RulesV3Generator:
         if level == 1:
             cue = rng.choice(V.REPAIR_CUES)
             filler = rng.choice(V.REPAIR_FILLERS)
-            changed = self._replace(parts, segment, np, f"{wrong}, {cue}, {filler}{name}")
+            # the name said twice ("no, the box, the box"): the paper's repetition lowers lexical diversity
+            twice = f", {name}" if chance(rng, "object_substitution", 1, "the name said twice") else ""
+            changed = self._replace(parts, segment, np, f"{wrong}, {cue}, {filler}{name}{twice}")
             after = (
                 [rng.choice(V.SLIP_REMARKS).format(**fmt)]
                 if chance(rng, "object_substitution", 1, "a short remark on the slip after the request")
@@ -334,10 +336,11 @@ class RulesV3Generator:
             for i in range(draw(rng, "object_substitution", 2, "correction sentences")):
                 if i == 0:
                     core = rng.choice(V.CORRECTION_CORES).format(**fmt)
-                    lead = rng.choice(V.CORRECTION_LEADS)
-                    if not REPAIR.search(lead + core):
-                        lead = rng.choice([x for x in V.CORRECTION_LEADS if x and REPAIR.search(x)])
+                    # a cue in the lead as well: Level 2 repairs a little more than Level 1 (see markers/paper.py)
+                    lead = rng.choice([x for x in V.CORRECTION_LEADS if x and REPAIR.search(x)])
                     tag = rng.choice(V.CORRECTION_TAGS)
+                    if chance(rng, "object_substitution", 2, "the name said twice") and not core.endswith(name):
+                        tag = f", {name}"
                     later.append(_cap(lead + core + (tag if tag.strip(", ") not in core else "")) + ".")
                 else:
                     later.append(
@@ -346,7 +349,7 @@ class RulesV3Generator:
             return parts.join(**changed, later=later)
         slip = rng.choice(V.SECOND_SLIPS).format(**fmt)
         changed = self._replace(parts, segment, np, f"{wrong}, {slip},")
-        final = _cap(rng.choice(V.FINAL_LEADS) + rng.choice(V.FINAL_CORES).format(**fmt)) + "."
+        final = _cap(rng.choice(V.FINAL_LEADS) + rng.choice(V.FINAL_CORES).format(**fmt) + f", {name}") + "."
         later = [final]
         if draw(rng, "object_substitution", 3, "correction sentences") == 2:
             later.append(
@@ -355,10 +358,10 @@ class RulesV3Generator:
         return parts.join(**changed, later=later)
 
     # --- Empty Speech ---------------------------------------------------------------------------------------------
-    def _empty_sentence(self, rng: random.Random, used: set[str]) -> str:
+    def _empty_sentence(self, rng: random.Random, used: set[str], plain: bool) -> str:
         lead = rng.choice([x for x in V.EMPTY_LEADS if x.lower() not in used])
         used.add(lead.lower())
-        core = rng.choice(V.EMPTY_CORES)
+        core = rng.choice(V.EMPTY_CORES_PLAIN if plain else V.EMPTY_CORES)
         sentence = f"{lead}, {core}{rng.choice(V.EMPTY_TAGS)}."
         if not EMPTY_SPEECH.search(sentence):  # every empty sentence holds a cue the verifier knows
             sentence = f"{lead}, {core}, {rng.choice(V.EMPTY_TAIL_CUES)}."
@@ -370,10 +373,11 @@ class RulesV3Generator:
         body = parts.body
         points = RulesGenerator._insertion_points(task, body)
         inside = draw(rng, "empty_speech", level, "fillers inside the request")
-        fillers = rng.sample(V.FILLERS, inside)
+        # mostly discourse markers, sometimes a stock phrase (the paper's empty speech is marker-heavy)
+        fillers = [rng.choice(V.MARKERS if rng.random() < 0.75 else V.FILLERS) for _ in range(inside)]
         clusters = []
         for filler in fillers:
-            if rng.random() < 0.3:
+            if rng.random() < {1: 0.5, 2: 0.35, 3: 0.3}[level]:
                 partner = rng.choice(V.FILLER_PARTNERS)
                 filler = f"{partner}, {filler}" if rng.random() < 0.5 else f"{filler}, {partner}"
             clusters.append(filler)
@@ -396,9 +400,8 @@ class RulesV3Generator:
                     break
             body = RulesGenerator._insert(body, at, ", ".join(words))
         used: set[str] = set()
-        sentences = [
-            self._empty_sentence(rng, used) for _ in range(draw(rng, "empty_speech", level, "empty sentences"))
-        ]
+        count = draw(rng, "empty_speech", level, "empty sentences")
+        sentences = [self._empty_sentence(rng, used, level == 3 and rng.random() < 0.7) for _ in range(count)]
         before: list[str] = []
         if level == 3 and sentences and chance(rng, "empty_speech", 3, "an empty sentence before the request"):
             before = [sentences.pop(0)]
@@ -497,7 +500,9 @@ class RulesV3Generator:
             follows: list[str] = []
             while len(follows) < count - 1:
                 follows.append(follow(follows))
-            comma = chance(rng, "intrusion", level, "the intrusion is cut in with a comma (else a full stop)")
+            comma = chance(
+                rng, "intrusion", level, "the intrusion is cut in with a comma (else an ellipsis, a sentence more)"
+            )
             opener = rng.choice(("", "oh, ", "oh, ", "hang on, ", "ooh, ")) if comma else ""
             cut = f"{head}, {opener}{first}" if comma else f"{head}... {_cap(first)}"
             said = " ".join([cut, *follows])
