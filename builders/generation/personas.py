@@ -137,7 +137,7 @@ _FRIENDS = (
 _WORKS = (
     Work("a nurse", "the hospital", "Sister Murphy", "I did nights on the children's ward for years."),
     Work("a teacher", "the primary school", "Mr Bryce", "I taught the infants to read, forty of them at a time."),
-    Work("a postman", "the sorting office", "Alfie Gould", "I was out on my round before dawn."),
+    Work("a postman", "the sorting office", "Reg Gould", "I was out on my round before dawn."),
     Work("a baker", "the bakery on the high street", "Mrs Lowe", "We had the ovens going by four every morning."),
     Work("a signalman", "the railway", "Tommy Reid", "I worked the signals at the junction for thirty years."),
     Work("a seamstress", "the clothing factory", "Ivy", "I sewed collars all day, hundreds of them."),
