@@ -51,7 +51,7 @@ FORMS: dict[tuple[str, int], Form] = {
     ),
     ("object_substitution", 2): Form(
         {"correction sentences": (1, 2)},
-        {"the name said twice": 0.6},
+        {"the name said twice": 0.9},
         "the wrong object stays through the request; the correction follows it, before any closing thanks",
     ),
     ("object_substitution", 3): Form(
@@ -77,7 +77,8 @@ FORMS: dict[tuple[str, int], Form] = {
     ("topic_drift", 1): Form(
         {"drift sentences": (1, 2), "scene objects": (1, 1)},
         {"the remark ties a task object to a scene object": 0.9},
-        "after the complete request (and its thanks): one remark on a scene object, sometimes a short aside",
+        "after the complete request (and its thanks): one remark on a scene object, sometimes a short aside "
+        "back on the task object",
     ),
     ("topic_drift", 2): Form(
         {"drift sentences": (2, 3), "scene objects": (2, 2)},

@@ -558,6 +558,17 @@ ASIDES = (
     "Oh well.",
     "Ah, well.",
 )
+# The short second remark at Level 1 when the task names an object: it comes back to that object.
+ASIDES_TIED = (
+    "Funny, {t_the} of all things.",
+    "{T_the}, of all things.",
+    "All that from {t_the}.",
+    "Funny what {t_the} makes me think of.",
+    "{T_the} and {t_its} stories.",
+    "Goodness, {t_the}.",
+    "Funny how {t_the} does that.",
+    "Years, {t_the} {t_has} been about.",
+)
 DRIFT_LEADS = ("Oh, ", "You know, ", "Mind you, ", "Anyway, ", "Honestly, ", "Goodness, ", "Still, ", "Ah, ", "Well, ")
 
 # --- Intrusion -----------------------------------------------------------------------------------------------------

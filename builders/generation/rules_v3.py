@@ -343,9 +343,7 @@ class RulesV3Generator:
                         tag = f", {name}"
                     later.append(_cap(lead + core + (tag if tag.strip(", ") not in core else "")) + ".")
                 else:
-                    later.append(
-                        rng.choice((f"{_cap(name)}.", f"Yes, {name}.", rng.choice(V.SLIP_REMARKS).format(**fmt)))
-                    )
+                    later.append(rng.choice((f"{_cap(name)}.", f"Yes, {name}.", f"{_cap(name)}, {name}.")))
             return parts.join(**changed, later=later)
         slip = rng.choice(V.SECOND_SLIPS).format(**fmt)
         changed = self._replace(parts, segment, np, f"{wrong}, {slip},")
@@ -378,7 +376,7 @@ class RulesV3Generator:
         clusters = []
         for filler in fillers:
             if rng.random() < {1: 0.5, 2: 0.35, 3: 0.3}[level]:
-                partner = rng.choice(V.FILLER_PARTNERS)
+                partner = rng.choice([p for p in V.FILLER_PARTNERS if p != filler])
                 filler = f"{partner}, {filler}" if rng.random() < 0.5 else f"{filler}, {partner}"
             clusters.append(filler)
         # distinct boundaries while there are enough, so no more than three fillers stand in a row
@@ -456,7 +454,10 @@ class RulesV3Generator:
         fields = self._fields(who)
         extra = rng.sample(far, len(far))
         while len(texts) < count:
-            if level == 1:
+            if level == 1 and task_objects:
+                back = noun(rng.choice(task_objects))
+                texts.append(_cap(rng.choice(V.ASIDES_TIED).format(**self._fields(who, t=back))))
+            elif level == 1:
                 texts.append(rng.choice(V.ASIDES))
             else:
                 texts.append(_cap(extra.pop().format(**fields)))
@@ -484,7 +485,11 @@ class RulesV3Generator:
         fields = self._fields(who)
         body = parts.body
         points = RulesGenerator._insertion_points(task, body)
-        at = rng.choice(points)
+        span = Context(task, CLEAN, 0, body).request_span
+        start = span[0] if span else 0
+        # not straight after the first word ("examine. Rain again."), unless there is no other boundary
+        later_points = [p for p in points if len(body[start:p].split()) >= 2]
+        at = rng.choice(later_points or points)
         head, rest = body[:at].rstrip().rstrip(","), body[at:]
 
         def thought() -> str:
@@ -515,8 +520,6 @@ class RulesV3Generator:
                 fragments.append(text)
             if len(fragments) == wanted:
                 break
-        span = Context(task, CLEAN, 0, body).request_span
-        start = span[0] if span else 0
         restated = body[start:at].strip().rstrip(",")
         restated = restated if restated.split(" ", 1)[0].isupper() else restated[:1].lower() + restated[1:]
         restate = rng.choice(V.RESTATEMENTS).format(restate=restated)
