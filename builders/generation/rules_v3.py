@@ -347,7 +347,8 @@ class RulesV3Generator:
             return parts.join(**changed, later=later)
         slip = rng.choice(V.SECOND_SLIPS).format(**fmt)
         changed = self._replace(parts, segment, np, f"{wrong}, {slip},")
-        final = _cap(rng.choice(V.FINAL_LEADS) + rng.choice(V.FINAL_CORES).format(**fmt) + f", {name}") + "."
+        core = rng.choice(V.FINAL_CORES).format(**fmt)
+        final = _cap(rng.choice(V.FINAL_LEADS) + core + ("" if core.endswith(name) else f", {name}")) + "."
         later = [final]
         if draw(rng, "object_substitution", 3, "correction sentences") == 2:
             later.append(
@@ -372,7 +373,10 @@ class RulesV3Generator:
         points = RulesGenerator._insertion_points(task, body)
         inside = draw(rng, "empty_speech", level, "fillers inside the request")
         # mostly discourse markers, sometimes a stock phrase (the paper's empty speech is marker-heavy)
-        fillers = [rng.choice(V.MARKERS if rng.random() < 0.75 else V.FILLERS) for _ in range(inside)]
+        fillers: list[str] = []
+        while len(fillers) < inside:  # no filler twice in one utterance
+            pick = rng.choice(V.MARKERS if rng.random() < 0.75 else V.FILLERS)
+            fillers += [pick] if pick not in fillers else []
         clusters = []
         for filler in fillers:
             if rng.random() < {1: 0.5, 2: 0.35, 3: 0.3}[level]:
@@ -387,7 +391,7 @@ class RulesV3Generator:
         for at, cluster in zip(chosen, clusters, strict=True):
             stacked.setdefault(at, []).append(cluster)
         for at in sorted(stacked, reverse=True):
-            words = stacked[at]
+            words = stacked[at][:3]  # one boundary holds three fillers at most (the checks need three inside)
             while sum(len(c.split(", ")) for c in words) > 3:  # trim partners first, never a counted filler
                 longest = max(range(len(words)), key=lambda i: len(words[i].split(", ")))
                 pieces = words[longest].split(", ")
