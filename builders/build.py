@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from builders.generation import GenerationRequest, Generator, derive_seed, get_generator
+from builders.generation.ranking import Ranker, best_index, load_ranker
 from builders.interpretation import interpretation
 from builders.verification import verify
 from talkdem.paths import data_dir, repo_root
@@ -117,11 +118,24 @@ def pddl_row(params: PddlParams) -> dict[str, Any]:
 
 
 # --- one unit ------------------------------------------------------------------------------------------------
+def _candidates(generator: Generator, batch: list[GenerationRequest]) -> list[list[tuple[int, str]]]:
+    """(seed, text) candidates per request: several from a generator that draws them, else its one utterance."""
+    draw = getattr(generator, "generate_candidates", None)
+    if draw is not None:
+        drawn: list[list[tuple[int, str]]] = draw(batch)
+        return drawn
+    return [[(r.seed, text)] for r, text in zip(batch, generator.generate(batch), strict=True)]
+
+
 def _generate_verified(
-    generator: Generator, requests: list[tuple[Task, str, int, str]], base_seed: int
-) -> list[tuple[str, dict[str, Any], int]]:
-    """(text, verification, seed) per request: regenerate failures, in batches, up to MAX_ATTEMPTS."""
-    results: list[tuple[str, dict[str, Any], int] | None] = [None] * len(requests)
+    generator: Generator,
+    requests: list[tuple[Task, str, int, str]],
+    base_seed: int,
+    ranker: Ranker | None = None,
+) -> list[tuple[str, dict[str, Any], int, dict[str, Any]]]:
+    """(text, verification, seed, ranking) per request: of each request's candidates keep those that pass,
+    the best-ranked of them (or the first without a ranker); regenerate when none passes, up to MAX_ATTEMPTS."""
+    results: list[tuple[str, dict[str, Any], int, dict[str, Any]] | None] = [None] * len(requests)
     pending = list(range(len(requests)))
     for attempt in range(1, MAX_ATTEMPTS + 1):
         batch = [
@@ -130,30 +144,61 @@ def _generate_verified(
             )
             for task, pattern, level, clean in (requests[i] for i in pending)
         ]
-        texts = generator.generate(batch)
+        drawn = _candidates(generator, batch)
+        passing: list[list[tuple[int, str]]] = []
+        for request, candidates in zip(batch, drawn, strict=True):
+            passing.append(
+                [(s, t) for s, t in candidates if verify(request.task, request.pattern, request.level, t)["passed"]]
+            )
+        scores = _scores(ranker, passing)
         still = []
-        for i, request, text in zip(pending, batch, texts, strict=True):
-            check = verify(request.task, request.pattern, request.level, text)
-            results[i] = (text, {**check, "attempts": attempt}, request.seed)
-            if not check["passed"]:
+        for i, request, candidates, good, score in zip(pending, batch, drawn, passing, scores, strict=True):
+            if good:
+                best = best_index(score) if ranker is not None else 0
+                seed, text = good[best]
+            else:
+                seed, text = candidates[0]
                 still.append(i)
+            check = verify(request.task, request.pattern, request.level, text)
+            ranking = {
+                "score": round(score[best], 6) if good and ranker is not None else None,
+                "model": ranker.model_id if ranker is not None and good else None,
+                "candidates": len(candidates),
+                "passed": len(good),
+            }
+            results[i] = (text, {**check, "attempts": attempt}, seed, ranking)
         pending = still
         if not pending:
             break
     return [r for r in results if r is not None]
 
 
+def _scores(ranker: Ranker | None, passing: list[list[tuple[int, str]]]) -> list[list[float]]:
+    """Each request's passing candidates scored in one batched call (ranked only where there is a choice)."""
+    if ranker is None:
+        return [[0.0] * len(good) for good in passing]
+    texts = [t for good in passing for _, t in good]
+    flat = iter(ranker.scores(texts)) if texts else iter(())
+    return [[next(flat) for _ in good] for good in passing]
+
+
 def build_unit(
-    generator: Generator, task: Task, base_seed: int, patterns: Sequence[str] = PATTERN_CONFIGS
+    generator: Generator,
+    task: Task,
+    base_seed: int,
+    patterns: Sequence[str] = PATTERN_CONFIGS,
+    ranker: Ranker | None = None,
 ) -> list[dict[str, Any]]:
     """The 16 rows of one task: its clean control, then each pattern at levels 1-3 (`patterns` narrows
     the patterns, for a quick check of a slow generator)."""
-    ((clean, clean_check, clean_seed),) = _generate_verified(generator, [(task, CLEAN, 0, "")], base_seed)
+    ((clean, clean_check, clean_seed, clean_rank),) = _generate_verified(
+        generator, [(task, CLEAN, 0, "")], base_seed, ranker
+    )
     variants = [(task, p, lvl, clean) for p in patterns for lvl in LEVELS]
-    generated = [(CLEAN, 0, clean, clean_check, clean_seed)] + [
-        (p, lvl, text, check, seed)
-        for (_, p, lvl, _), (text, check, seed) in zip(
-            variants, _generate_verified(generator, variants, base_seed), strict=True
+    generated = [(CLEAN, 0, clean, clean_check, clean_seed, clean_rank)] + [
+        (p, lvl, text, check, seed, rank)
+        for (_, p, lvl, _), (text, check, seed, rank) in zip(
+            variants, _generate_verified(generator, variants, base_seed, ranker), strict=True
         )
     ]
     return [
@@ -173,8 +218,9 @@ def build_unit(
             "generator": generator.name,
             "prompt_version": generator.prompt_version,
             "seed": seed,
+            "ranking": rank,
         }
-        for pattern, level, text, check, seed in generated
+        for pattern, level, text, check, seed, rank in generated
     ]
 
 
@@ -188,7 +234,12 @@ def tasks_digest(benchmark: Sequence[Task], memory: Sequence[Task]) -> str:
 
 
 def checkpoint_header(
-    generator: Generator, seed: int, limit: int | None, benchmark: Sequence[Task], memory: Sequence[Task]
+    generator: Generator,
+    seed: int,
+    limit: int | None,
+    benchmark: Sequence[Task],
+    memory: Sequence[Task],
+    rank_model: str | None = None,
 ) -> dict[str, Any]:
     """The settings of one build, the checkpoint's first line: a checkpoint is resumed only by the build
     that wrote it. A `--limit` smoke build, another seed, generator, prompt set or task file is another
@@ -197,6 +248,8 @@ def checkpoint_header(
         "checkpoint": CHECKPOINT_FORMAT,
         "generator": generator.name,
         "prompt_version": generator.prompt_version,
+        "candidates": getattr(generator, "candidates", 1),
+        "rank_model": rank_model,
         "seed": seed,
         "limit": limit,
         "smoke": limit is not None,
@@ -401,8 +454,14 @@ def build(
     progress: bool = True,
     throttle: float = 0.0,
     limit: int | None = None,
+    candidates: int | None = None,
+    rank_model: str | None = None,
 ) -> BuildResult:
     """Generate, verify and write the whole dataset into `folder` (default `data/`).
+
+    `candidates` sets how many candidates a generator that draws them (`rules`) draws per request (default
+    its own, 4); `rank_model` names the llama.cpp model that ranks the verified ones (None: the first that
+    passes is kept, no model is loaded).
 
     `tasks_folder` is where `tasks/benchmark.jsonl` and `tasks/memory.jsonl` are read (default `data/`).
     `throttle` sleeps that many seconds after each unit (used by the kill-and-resume test).
@@ -410,6 +469,12 @@ def build(
     slow generator); the dataset written is then partial and says so in its statistics.
     """
     gen = get_generator(generator) if isinstance(generator, str) else generator
+    if candidates is not None:
+        if not hasattr(gen, "candidates"):
+            raise ValueError(f"generator '{gen.name}' ({gen.prompt_version}) draws one utterance per request")
+        if candidates < 1:
+            raise ValueError(f"candidates must be a positive number, got {candidates}")
+        gen.candidates = candidates
     source = Path(tasks_folder) if tasks_folder else data_dir()
     benchmark = load_tasks(TaskSet.BENCHMARK, source)
     memory = load_tasks(TaskSet.MEMORY, source)
@@ -420,8 +485,9 @@ def build(
     folder = Path(folder) if folder else data_dir()
     check_output_folder(folder)
     path = checkpoint or default_checkpoint(gen.name, seed, limit)
+    ranker = load_ranker(rank_model)
     with _checkpoint_lock(path):
-        return _build_locked(gen, folder, benchmark, memory, path, seed, limit, progress, throttle)
+        return _build_locked(gen, folder, benchmark, memory, path, seed, limit, progress, throttle, ranker)
 
 
 def _build_locked(
@@ -434,11 +500,13 @@ def _build_locked(
     limit: int | None,
     progress: bool,
     throttle: float,
+    ranker: Ranker | None = None,
 ) -> BuildResult:
     from tqdm import tqdm
 
     todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
-    header = checkpoint_header(gen, seed, limit, benchmark, memory)
+    rank_id = ranker.model_id if ranker is not None else None
+    header = checkpoint_header(gen, seed, limit, benchmark, memory, rank_id)
     units = read_checkpoint(path, header)
     resumed = sum(1 for key, _ in todo if key in units)
     if path.stat().st_size == 0:  # the lock created it empty
@@ -450,7 +518,7 @@ def _build_locked(
     for key, task in todo:
         if key in units:
             continue
-        rows = build_unit(gen, task, seed)
+        rows = build_unit(gen, task, seed, ranker=ranker)
         _append(path, {"unit": key, "rows": rows})
         units[key] = rows
         bar.update(1)
@@ -458,7 +526,13 @@ def _build_locked(
             time.sleep(throttle)
     bar.close()
 
-    build_info = {"generator": gen.name, "prompt_version": gen.prompt_version, "seed": seed}
+    build_info = {
+        "generator": gen.name,
+        "prompt_version": gen.prompt_version,
+        "seed": seed,
+        "candidates": getattr(gen, "candidates", 1),
+        "rank_model": rank_id,
+    }
     files, stats = write_dataset(folder, benchmark, memory, units, build_info)
     path.unlink()
     return BuildResult(folder, tuple(files), stats, resumed)

@@ -101,6 +101,10 @@ def _levels_section() -> str:
         for level, meaning in pattern.levels.items():
             out.append(f"- Level {level}: {meaning}")
         out.append("")
+    from builders.generation.forms import definitions_table
+
+    out += ["This project's definitions beside the paper's, with the form each utterance draws (`rules-v3`):", ""]
+    out.append(definitions_table())
     return "\n".join(out)
 
 

@@ -297,6 +297,12 @@ def features(kind: FeatureKind) -> datasets.Features:
         "generator": string,
         "prompt_version": string,
         "seed": datasets.Value("int64"),
+        "ranking": {
+            "score": datasets.Value("float64"),
+            "model": string,
+            "candidates": datasets.Value("int32"),
+            "passed": datasets.Value("int32"),
+        },
     }
     if kind == "instruction":
         return datasets.Features(instruction)

@@ -1,4 +1,5 @@
-"""Instruction generators behind one interface: `rules` (embedded default) and `llm` (prompted backends)."""
+"""Instruction generators behind one interface: `rules` (embedded default, `rules-v3`; `rules-v2` by name) and
+`llm` (prompted backends)."""
 
 from builders.generation.base import (
     CLEAN,
@@ -10,6 +11,7 @@ from builders.generation.base import (
     registered_generators,
 )
 from builders.generation.rules import RulesGenerator
+from builders.generation.rules_v3 import RulesV3Generator
 
 
 def _default_llm_generator() -> Generator:
@@ -20,7 +22,9 @@ def _default_llm_generator() -> Generator:
     return LLMGenerator(load_model("hf", "smollm2-135m-instruct"))
 
 
-register_generator("rules", RulesGenerator)
+register_generator("rules", RulesV3Generator)  # the default: rules-v3
+register_generator("rules-v3", RulesV3Generator)
+register_generator("rules-v2", RulesGenerator)  # the phrase banks of the data before issue 19, byte for byte
 register_generator("llm", _default_llm_generator)
 
 __all__ = [
@@ -28,6 +32,7 @@ __all__ = [
     "GenerationRequest",
     "Generator",
     "RulesGenerator",
+    "RulesV3Generator",
     "derive_seed",
     "get_generator",
     "register_generator",

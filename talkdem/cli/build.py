@@ -30,6 +30,17 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--limit", type=positive_int, help="only the first N benchmark and N memory tasks (a smoke build; needs --out)"
     )
+    parser.add_argument(
+        "--candidates",
+        type=positive_int,
+        help="candidates the rules generator draws per instruction (default 4); the verified ones are ranked",
+    )
+    parser.add_argument(
+        "--rank-model",
+        default="none",
+        help="llama.cpp model ranking the verified candidates by mean log-probability per token, 1 thread "
+        "(e.g. qwen2.5-coder-0.5b; default none: the first verified candidate is kept)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="build seed (default 0): same seed, same bytes")
     parser.add_argument("--out", type=folder_path, help="dataset folder (default: data/ or $TALKDEM_DATA_DIR)")
     parser.add_argument("--tasks-dir", type=Path, help="folder holding tasks/*.jsonl (default: data/)")
@@ -59,6 +70,8 @@ def run(args: argparse.Namespace) -> int:
         progress=not args.no_progress,
         throttle=args.throttle,
         limit=args.limit,
+        candidates=args.candidates,
+        rank_model=args.rank_model,
     )
     if result.resumed_units:
         print(f"resumed {result.resumed_units} finished tasks from the checkpoint", file=sys.stderr)
