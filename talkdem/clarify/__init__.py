@@ -22,6 +22,7 @@ __all__ = [
     "ClarifyMode",
     "Exchange",
     "SimulatedPerson",
+    "Slot",
     "is_question",
     "leaked_slots",
     "match_question",

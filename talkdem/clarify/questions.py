@@ -53,8 +53,10 @@ _KEYWORDS: tuple[tuple[Slot, tuple[str, ...]], ...] = (
     (Slot.DESTINATION, ("where", "put", "place", "destination", "leave", "go")),
     (
         Slot.STATE,
-        ("state", "condition", "hot", "cold", "heat", "heated", "cool", "cooled", "clean", "cleaned", "wash")
-        + ("washed", "slice", "sliced", "cut", "warm", "chill", "how should"),
+        (
+            *("state", "condition", "how should", "hot", "cold", "warm", "chill", "heat", "heated", "cool"),
+            *("cooled", "clean", "cleaned", "wash", "washed", "slice", "sliced", "cut"),
+        ),
     ),
     (Slot.TASK, ("task", "job", "what should i do", "what do you want", "what to do", "do what")),
     (Slot.OBJECT, ("object", "which", "what", "item", "thing", "use", "pick", "take", "get", "bring")),

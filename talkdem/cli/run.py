@@ -12,6 +12,7 @@ from talkdem.cli.arguments import folder_path, non_negative_int, positive_int
 from talkdem.sim.seam import DEFAULT_MAX_STEPS
 
 if TYPE_CHECKING:
+    from talkdem.clarify import ClarifyMode
     from talkdem.instructions import Instruction
     from talkdem.llm.base import LanguageModel
     from talkdem.planner.react import ReActConfig
@@ -247,18 +248,21 @@ def plan_run(args: argparse.Namespace) -> RunPlan:
             f"{len(urls)} so that every server gets episodes"
         )
     config: SayCanConfig | ReActConfig
-    clarify = getattr(args, "clarify", "none")
-    budget = getattr(args, "clarify_budget", None)
+    # A namespace built before the flags existed (a caller's own) asks nothing.
+    clarify: ClarifyMode = vars(args).get("clarify", "none")
+    budget: int | None = vars(args).get("clarify_budget")
     if clarify == "none" and budget is not None:
         raise ValueError("--clarify-budget applies with --clarify oracle or in-pattern")
-    questions = {
-        "clarify": clarify,
-        "clarify_budget": 0 if clarify == "none" else (budget or DEFAULT_CLARIFY_BUDGET),
-    }
+    clarify_budget = 0 if clarify == "none" else (budget or DEFAULT_CLARIFY_BUDGET)
     if args.planner == "react":
         if args.log_top or args.no_mask_failed or args.scoring != "sum":
             raise ValueError("--log-top, --no-mask-failed and --scoring are for the SayCan planners, not react")
-        config = ReActConfig(max_steps=args.max_steps, thought_tokens=args.thought_tokens, **questions)
+        config = ReActConfig(
+            max_steps=args.max_steps,
+            thought_tokens=args.thought_tokens,
+            clarify=clarify,
+            clarify_budget=clarify_budget,
+        )
     else:
         feedback = args.feedback
         if args.no_mask_failed:
@@ -271,7 +275,8 @@ def plan_run(args: argparse.Namespace) -> RunPlan:
             scoring=args.scoring,
             mode=args.planner,
             log_top=args.log_top,
-            **questions,
+            clarify=clarify,
+            clarify_budget=clarify_budget,
         )
     return RunPlan(
         episodes=episodes,

@@ -161,9 +161,8 @@ class ReActPlanner:
 
         raw = self.model.generate([GenerateRequest(context + " ", max_new_tokens=self.config.action_tokens)])[0]
         written = " ".join(raw.split())
-        if questions:
-            if is_question(written):
-                return written, 0.0, raw
+        if questions and is_question(written):
+            return written, 0.0, raw
         skill = parse_skill(written)
         # An unparseable action is executed as written: the simulator fails it (`instruction not supported`).
         return (canonical_text(skill) if skill is not None else written), 0.0, raw
