@@ -50,7 +50,7 @@ def test_questions_are_answered_and_the_actions_alone_are_the_plan(name: str, sc
     # Scoring planners choose among the fixed questions; writing ones may ask in their own words.
     second = "ask where to put it" if scores else "ask: where should it go?"
     script = ["ask which object to use", *plan[:2], second, *plan[2:]]
-    result, model, _ = _plan(name, scores, script)
+    result, _, _ = _plan(name, scores, script)
     assert result.plan == task.reference_plan  # type: ignore[attr-defined]
     assert result.trace.success  # type: ignore[attr-defined]
     dialogue = result.dialogue  # type: ignore[attr-defined]
