@@ -14,6 +14,7 @@ from talkdem.metrics.clarification import (
     ClarificationRow,
     ClarificationScores,
     asked_questions,
+    clarification_from_outcomes,
     clarification_scores,
     used_clarification,
 )
@@ -64,6 +65,7 @@ __all__ = [
     "TestResult",
     "asked_questions",
     "bootstrap_ci",
+    "clarification_from_outcomes",
     "clarification_scores",
     "classify_error",
     "clustered_mean_test",

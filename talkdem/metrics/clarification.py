@@ -20,19 +20,45 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from dataclasses import dataclass, field
+from typing import Any, Protocol
 
-from talkdem.schema import CLEAN, CONDITIONS, LEVELS, PATTERN_CONFIGS
+from talkdem.schema import CLEAN, CONDITIONS, LEVELS, PATTERN_CONFIGS, parse_instruction_id
 
-if TYPE_CHECKING:
-    from talkdem.runs.records import EpisodeRecord
+
+class EpisodeRecord(Protocol):
+    """What these measures read of an episode (`talkdem.runs.EpisodeRecord` has it)."""
+
+    @property
+    def episode_id(self) -> str: ...
+    @property
+    def task_id(self) -> str: ...
+    @property
+    def pattern(self) -> str: ...
+    @property
+    def level(self) -> int: ...
+    @property
+    def success(self) -> bool: ...
+    @property
+    def trace(self) -> dict[str, Any]: ...
+
+
+@dataclass(frozen=True)
+class _Outcome:
+    episode_id: str
+    task_id: str
+    pattern: str
+    level: int
+    success: bool
+    trace: dict[str, Any] = field(default_factory=dict)
+
 
 __all__ = [
     "CLARIFICATION_GROUPS",
     "ClarificationRow",
     "ClarificationScores",
     "asked_questions",
+    "clarification_from_outcomes",
     "clarification_scores",
     "used_clarification",
 ]
@@ -161,3 +187,24 @@ def clarification_scores(
         unneeded_per_clean_episode=sum(clean) / len(clean) if clean else math.nan,
         paired=without is not None,
     )
+
+
+def _outcome(episode_id: str, success: bool, questions: int | None) -> _Outcome:
+    task_id, condition = parse_instruction_id(episode_id)
+    trace: dict[str, Any] = {} if questions is None else {"dialogue": [{}] * questions}
+    return _Outcome(episode_id, task_id, condition.pattern, condition.level, success, trace)
+
+
+def clarification_from_outcomes(
+    successes: Mapping[str, bool], questions: Mapping[str, int], without: Mapping[str, bool] | None = None
+) -> ClarificationScores | None:
+    """`clarification_scores` from outcomes and question counts by instruction id (the `evaluate` metric's
+    inputs); `without`: success without clarification by id."""
+    missing = sorted(set(successes) - set(questions))
+    if missing:
+        raise ValueError(f"question counts are missing for: {', '.join(missing[:5])}")
+    if any(not isinstance(n, int) or isinstance(n, bool) or n < 0 for n in questions.values()):
+        raise ValueError("question counts must be non-negative integers")
+    records = [_outcome(i, s, questions[i]) for i, s in successes.items()]
+    baseline = None if without is None else [_outcome(i, s, None) for i, s in without.items()]
+    return clarification_scores(records, baseline)
