@@ -81,3 +81,17 @@ def test_runs_without_clarification_are_unchanged_and_older_headers_resume(tmp_p
         warnings.simplefilter("error")
         assert main([*ARGS, "--conditions", "clean", "--limit", "2", "--out", str(out)]) == 0
     assert len(read_episodes(out)) == 2
+
+
+def test_a_sweep_spec_sets_clarification_for_its_runs(tmp_path: Path) -> None:
+    from talkdem.sweeps import load_sweep
+
+    spec = tmp_path / "sweep.yaml"
+    spec.write_text(
+        f"out: {tmp_path / 'out'}\nmodels: [smollm2-135m-instruct]\nstrategies: [vanilla]\n"
+        "conditions: [clean]\ntasks: 1\nplanner: {clarify: in-pattern, clarify_budget: 3}\n"
+    )
+    (run,) = load_sweep(spec).runs
+    command = run.command()
+    assert command[command.index("--clarify") + 1] == "in-pattern"
+    assert command[command.index("--clarify-budget") + 1] == "3"
