@@ -147,7 +147,7 @@ def _clarify_cells(record: dict[str, Any]) -> list[str]:
     found = record["results"].get("talkdem_clarification")
     if found is None:
         return ['<td data-v="">–</td>', *['<td class="num" data-v="">–</td>'] * 3]
-    mode = html.escape(str(found["mode"]), quote=True)
+    mode = html.escape(str(record["config"].get("clarify", "")), quote=True)
     q = html.escape(f"{float(found['questions_per_episode']):.2f}", quote=True)
     unneeded = html.escape(str(found["unneeded_questions"]), quote=True)
     return [

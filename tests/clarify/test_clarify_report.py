@@ -50,12 +50,13 @@ def test_leaderboard_records_and_page_carry_clarification_only_when_present(runs
     plain, asked = (results_record(run) for run in scored)
     assert "talkdem_clarification" not in plain["results"]
     block = asked["results"]["talkdem_clarification"]
-    assert (block["mode"], block["questions_per_episode"], block["help_rate"]) == ("oracle", 2.0, 1.0)
+    assert (asked["config"]["clarify"], block["questions_per_episode"], block["help_rate"]) == ("oracle", 2.0, 1.0)
+    assert "clarify" not in plain["config"]
     assert block["unneeded_questions"] == 4
     assert validate_record(asked, "asked.json") is asked
     assert ">Asks<" not in render_html([plain])
     page = render_html([plain, asked])
     assert ">Asks<" in page and ">oracle<" in page
-    broken = {**asked, "results": {**asked["results"], "talkdem_clarification": {**block, "mode": "maybe"}}}
-    with pytest.raises(ResultsFileError, match=r"talkdem_clarification\.mode"):
+    broken = {**asked, "config": {**asked["config"], "clarify": "maybe"}}
+    with pytest.raises(ResultsFileError, match=r"config\.clarify"):
         validate_record(broken, "broken.json")
