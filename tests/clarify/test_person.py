@@ -115,3 +115,39 @@ def test_no_answer_names_an_unasked_slot_over_every_instruction_slot_and_mode() 
                     leaks.append((instruction.id, slot.value, answer))
     assert not leaks, leaks[:5]
     assert spoken > len(_instructions())  # most pattern answers really are spoken in pattern
+
+
+def test_answers_differ_between_episodes_of_one_condition() -> None:
+    episodes = [i for i in _instructions() if (i.condition.pattern, i.condition.level) == ("empty_speech", 2)][:12]
+    answers = {SimulatedPerson("in-pattern", i, get_task(i.task_id)).answer(Slot.OBJECT)[0] for i in episodes}
+    clear = {oracle_answer(get_task(i.task_id), Slot.OBJECT) for i in episodes}
+    assert len(answers) > len(clear) // 2 and not answers & clear
+
+
+class _Echo:
+    """A stand-in generator for this test of the person's use of the generator interface."""
+
+    name = "echo-test"
+    prompt_version = "1"
+
+    def __init__(self) -> None:
+        self.requests: list[object] = []
+
+    def generate(self, requests: list[object]) -> list[str]:
+        self.requests += requests
+        return [f"{r.clean} ({r.pattern} {r.level})" for r in requests]  # type: ignore[attr-defined]
+
+
+def test_in_pattern_answers_come_from_the_generator_named_through_its_interface() -> None:
+    from builders.generation import register_generator
+
+    echo = _Echo()
+    register_generator("echo-test", lambda: echo)
+    instruction, task = _first("look_at_obj_in_light", "topic_drift", 3)
+    person = SimulatedPerson("in-pattern", instruction, task, generator_name="echo-test")
+    exchange = person.ask("ask which light to use", 1)
+    lamp = oracle_answer(task, Slot.LAMP)
+    assert exchange.answer == f"{lamp} (topic_drift 3)" and exchange.in_pattern
+    (request,) = echo.requests
+    assert request.task.pddl_params.object_target == task.pddl_params.toggle_target  # type: ignore[attr-defined]
+    assert request.task.pddl_params.toggle_target == task.pddl_params.object_target  # type: ignore[attr-defined]
