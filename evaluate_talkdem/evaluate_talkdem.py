@@ -50,6 +50,10 @@ Args:
     bootstrap (int, default 1000): bootstrap resamples over tasks for the intervals: 0 (no intervals) or a
         whole number of at least 40 (a 95% percentile interval needs a resample in each 2.5% tail).
     seed (int): the bootstrap seed (fixed by default, so results are reproducible).
+    questions (list of int, optional): clarification runs: the questions the planner asked in each episode,
+        in the order of the references. With it the result has the clarification measures.
+    without (list of list of str, optional): with `questions`, the plans of the same references made
+        without clarification, for the success gained per question.
 Returns:
     A flat dict. Rates are fractions in [0, 1]; None where undefined (e.g. no episodes of a condition).
     `success_rate/<key>` for `clean`, `<pattern>:<level>`, `<pattern>` (mean over levels), `average`;
@@ -57,7 +61,9 @@ Returns:
     `retention/<key>` for `<pattern>:<level>`, `<pattern>`, `average`; `clean_successes`;
     `hazards/<category>/<pattern>`, `hazard_cases/<pattern>`, `hazard_cases`;
     `plan_length/<pattern or all>/{n,clean,transformed,delta,p}`; `errors/<type>`;
-    `ci_low/<measure>`, `ci_high/<measure>`; `n_episodes`, `n_tasks`.
+    `ci_low/<measure>`, `ci_high/<measure>`; `n_episodes`, `n_tasks`. With `questions`:
+    `clarify/{sr,questions,help_rate,gain_per_question,retention}/<all, clean, pattern or pattern:level>`,
+    `clarify/unneeded_questions`, `clarify/unneeded_per_clean_episode`.
 Raises:
     ValueError (talkdem.metrics.ScoringInputError) naming the offending ids for: empty input, unknown
     or duplicate ids, plans that are not lists of strings (checked as given, before the features cast
@@ -136,6 +142,41 @@ class TalkDem(evaluate.Metric):  # type: ignore[misc]  # evaluate ships no type 
         retention: bool = True,
         bootstrap: int = 1000,
         seed: int = BOOTSTRAP_SEED,
+        questions: list[int] | None = None,
+        without: list[list[str]] | None = None,
     ) -> dict[str, Any]:
         scores = score_predictions(predictions, references, retention=retention, bootstrap=bootstrap, seed=seed)
-        return dict(scores.flat())
+        out = dict(scores.flat())
+        if questions is not None:
+            out.update(_clarification(references, scores, questions, without))
+        elif without is not None:
+            raise ValueError("`without` pairs a clarification run: give `questions` too")
+        return out
+
+
+def _clarification(
+    references: list[str], scores: Any, questions: list[int], without: list[list[str]] | None
+) -> dict[str, Any]:
+    """The clarification measures (NaN as None, like every other value)."""
+    import math
+
+    from talkdem.metrics import clarification_from_outcomes
+
+    if len(questions) != len(references):
+        raise ValueError(f"{len(questions)} question counts for {len(references)} references")
+    successes = {e.instruction_id: e.success for e in scores.episodes}
+    by_reference = {e.instruction_id: e for e in scores.episodes}
+    counts = dict(zip(_ids(references, by_reference), questions, strict=True))
+    baseline = None
+    if without is not None:
+        check_predictions(without, references)
+        plain = score_predictions(without, references, retention=False, bootstrap=0)
+        baseline = {e.instruction_id: e.success for e in plain.episodes}
+    found = clarification_from_outcomes(successes, counts, baseline)
+    flat = found.flat() if found is not None else {}
+    return {k: None if isinstance(v, float) and math.isnan(v) else v for k, v in flat.items()}
+
+
+def _ids(references: list[str], known: dict[str, Any]) -> list[str]:
+    """Each reference as the episode id scoring gave it (`<task>:clean` is `<task>:clean:0`)."""
+    return [r if r in known else f"{r}:0" for r in references]

@@ -12,13 +12,17 @@ from talkdem.cli.arguments import folder_path, non_negative_int, positive_int
 from talkdem.sim.seam import DEFAULT_MAX_STEPS
 
 if TYPE_CHECKING:
+    from talkdem.clarify import ClarifyMode
     from talkdem.instructions import Instruction
     from talkdem.llm.base import LanguageModel
     from talkdem.planner.react import ReActConfig
     from talkdem.planner.saycan import SayCanConfig
     from talkdem.planner.strategies import Strategy
 
-__all__ = ["ModelLoader", "RunPlan", "StrategyLoader", "plan_run", "register", "run"]
+DEFAULT_CLARIFY_BUDGET = 2
+"""Questions per episode with `--clarify` (KnowNo and DialFRED ask about that often per task)."""
+
+__all__ = ["DEFAULT_CLARIFY_BUDGET", "ModelLoader", "RunPlan", "StrategyLoader", "plan_run", "register", "run"]
 
 
 def register(subparsers: Any) -> None:
@@ -142,6 +146,20 @@ def register(subparsers: Any) -> None:
         action="store_true",
         help="resume a run started on another code revision (refused otherwise); the header records both",
     )
+    parser.add_argument(
+        "--clarify",
+        choices=["none", "oracle", "in-pattern"],
+        default="none",
+        help="let the planner ask questions, answered by a simulated person from the task's gold slots: oracle "
+        "(clear answers) or in-pattern (spoken under the instruction's own pattern and level); default none",
+    )
+    parser.add_argument(
+        "--clarify-budget",
+        type=positive_int,
+        metavar="N",
+        help=f"with --clarify: questions allowed per episode (default {DEFAULT_CLARIFY_BUDGET}; they do not count "
+        "towards --max-steps)",
+    )
     parser.add_argument("--no-progress", action="store_true")
     parser.set_defaults(handler=run)
 
@@ -230,10 +248,21 @@ def plan_run(args: argparse.Namespace) -> RunPlan:
             f"{len(urls)} so that every server gets episodes"
         )
     config: SayCanConfig | ReActConfig
+    # A namespace built before the flags existed (a caller's own) asks nothing.
+    clarify: ClarifyMode = vars(args).get("clarify", "none")
+    budget: int | None = vars(args).get("clarify_budget")
+    if clarify == "none" and budget is not None:
+        raise ValueError("--clarify-budget applies with --clarify oracle or in-pattern")
+    clarify_budget = 0 if clarify == "none" else (budget or DEFAULT_CLARIFY_BUDGET)
     if args.planner == "react":
         if args.log_top or args.no_mask_failed or args.scoring != "sum":
             raise ValueError("--log-top, --no-mask-failed and --scoring are for the SayCan planners, not react")
-        config = ReActConfig(max_steps=args.max_steps, thought_tokens=args.thought_tokens)
+        config = ReActConfig(
+            max_steps=args.max_steps,
+            thought_tokens=args.thought_tokens,
+            clarify=clarify,
+            clarify_budget=clarify_budget,
+        )
     else:
         feedback = args.feedback
         if args.no_mask_failed:
@@ -241,7 +270,13 @@ def plan_run(args: argparse.Namespace) -> RunPlan:
                 raise ValueError(f"--no-mask-failed turns masking off, and --feedback {feedback} does not mask")
             feedback = {"mask": "none", "both": "message"}[feedback]
         config = SayCanConfig.with_feedback(
-            feedback, max_steps=args.max_steps, scoring=args.scoring, mode=args.planner, log_top=args.log_top
+            feedback,
+            max_steps=args.max_steps,
+            scoring=args.scoring,
+            mode=args.planner,
+            log_top=args.log_top,
+            clarify=clarify,
+            clarify_budget=clarify_budget,
         )
     return RunPlan(
         episodes=episodes,
@@ -286,7 +321,9 @@ def run(args: argparse.Namespace, *, load: ModelLoader | None = None, strategies
 
         logging.basicConfig(level=logging.INFO, format="%(message)s")
     planner = "-react" if args.planner == "react" else ""
-    out = args.out or Path("runs") / f"{Path(model.identity.name).name.removesuffix('.gguf')}{planner}-{args.strategy}"
+    asks = f"-clarify-{plan.config.clarify}" if plan.config.clarify != "none" else ""
+    name = Path(model.identity.name).name.removesuffix(".gguf")
+    out = args.out or Path("runs") / f"{name}{planner}-{args.strategy}{asks}"
     summary = run_episodes(
         plan.episodes,
         model,

@@ -126,8 +126,40 @@ def _model(config: dict[str, Any]) -> str:
     )
 
 
-def _columns(ranked: bool) -> list[tuple[str, str]]:
-    """(heading, tooltip) per column."""
+_CLARIFY_COLUMNS = [
+    (
+        "Asks",
+        "clarification: who answered the planner's questions (oracle: clearly; in-pattern: under the "
+        "instruction's own pattern and level); – for runs that could not ask",
+    ),
+    ("Q/ep", "clarification: questions asked per episode"),
+    ("Help", "clarification: share of episodes with at least one question"),
+    ("Unneeded", "clarification: questions asked on clean instructions"),
+]
+"""The clarification column group, shown only in a table where some run could ask."""
+
+
+def _asks(records: Sequence[dict[str, Any]]) -> bool:
+    return any("talkdem_clarification" in record["results"] for record in records)
+
+
+def _clarify_cells(record: dict[str, Any]) -> list[str]:
+    found = record["results"].get("talkdem_clarification")
+    if found is None:
+        return ['<td data-v="">–</td>', *['<td class="num" data-v="">–</td>'] * 3]
+    mode = html.escape(str(record["config"].get("clarify", "")), quote=True)
+    q = html.escape(f"{float(found['questions_per_episode']):.2f}", quote=True)
+    unneeded = html.escape(str(found["unneeded_questions"]), quote=True)
+    return [
+        f'<td data-v="{mode}">{mode}</td>',
+        f'<td class="num" data-v="{q}">{q}</td>',
+        _num(found["help_rate"]),
+        f'<td class="num" data-v="{unneeded}">{unneeded}</td>',
+    ]
+
+
+def _columns(ranked: bool, asks: bool = False) -> list[tuple[str, str]]:
+    """(heading, tooltip) per column (`asks`: with the clarification group)."""
     columns = [("Rank", RANK_KEY)] if ranked else []
     columns += [
         (
@@ -152,10 +184,10 @@ def _columns(ranked: bool) -> list[tuple[str, str]]:
     columns += [
         ("Hazards", "pattern episodes with a safety-relevant event absent under the clean instruction"),
     ]
-    return columns
+    return columns + (_CLARIFY_COLUMNS if asks else [])
 
 
-def _row(record: dict[str, Any], rank: int | None) -> str:
+def _row(record: dict[str, Any], rank: int | None, asks: bool = False) -> str:
     config, main = record["config"], record["results"]["talkdem"]
     intervals = record.get("intervals", {})
     coverage = Coverage.from_json(record["coverage"])
@@ -178,15 +210,18 @@ def _row(record: dict[str, Any], rank: int | None) -> str:
     # read, but the page does not rely on that).
     hazards = html.escape(str(main["hazard_cases"]), quote=True)
     cells += [f'<td class="num" data-v="{hazards}">{hazards}</td>']
+    if asks:
+        cells += _clarify_cells(record)
     return f'<tr data-run="{html.escape(record["run_id"], quote=True)}">' + "".join(cells) + "</tr>"
 
 
 def _table(rows: Sequence[tuple[int | None, dict[str, Any]]], ranked: bool, table_id: str) -> str:
+    asks = _asks([record for _, record in rows])
     head = "".join(
         f'<th scope="col" title="{html.escape(tip, quote=True)}">{html.escape(name)}</th>'
-        for name, tip in _columns(ranked)
+        for name, tip in _columns(ranked, asks)
     )
-    body = "".join(_row(record, rank) for rank, record in rows)
+    body = "".join(_row(record, rank, asks) for rank, record in rows)
     return (
         f'<div class="scroll"><table class="board{" ranked" if ranked else ""}" id="{table_id}">'
         f"<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table></div>"

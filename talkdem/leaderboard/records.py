@@ -9,7 +9,10 @@ and `results: {task: {metric: value}}`, values as fractions (it multiplies by 10
      "coverage": {"tasks", "of_tasks", "conditions", "of_conditions", "tasks_per_condition", "task_set"},
      "results": {"talkdem": {"clean_sr", "average_sr", "average_retention", "hazard_cases", "hazard_rate",
                              "n_episodes", "n_tasks"},
-                 "talkdem_<pattern>": {"sr", "sr_change", "sr_change_p", "retention"}, ...},
+                 "talkdem_<pattern>": {"sr", "sr_change", "sr_change_p", "retention"}, ...,
+                 "talkdem_clarification": {"questions_per_episode", "help_rate", "unneeded_questions",
+                                           "retention"}   (only for runs that could ask; then also
+                                                           `config.clarify`: oracle or in-pattern)},
      "intervals": {"clean_sr": [low, high], "average_sr": ..., "<pattern>_sr": ..., "<pattern>_retention": ...}}
 
 Rates are fractions rounded to 1e-4; undefined values are null. No field holds a machine path: a model file
@@ -77,6 +80,28 @@ def _intervals(run: ScoredRun) -> dict[str, list[float | None]]:
     }
 
 
+def _clarification(run: ScoredRun) -> dict[str, Any] | None:
+    """The clarification block of a run that could ask (None otherwise): numbers only, as every results
+    block (the Hub template scales them), and the run's own measures only, since a results record stands
+    alone (the gain over a run without clarification is in the report)."""
+    mode = str(run.header.config.get("clarify", "none"))
+    if mode == "none":
+        return None
+    from talkdem.metrics import clarification_scores
+    from talkdem.runs.store import read_episodes
+
+    scores = clarification_scores(read_episodes(run.run_dir))
+    if scores is None:
+        return None
+    overall = scores.rows["all"]
+    return {
+        "questions_per_episode": round(overall.questions_per_episode, 4),
+        "help_rate": _rate(overall.help_rate),
+        "unneeded_questions": scores.unneeded_questions,
+        "retention": _rate(overall.retention),
+    }
+
+
 def results_record(run: ScoredRun) -> dict[str, Any]:
     """The results record of one scored run (see the module docstring)."""
     s, header = run.scores, run.header
@@ -101,6 +126,9 @@ def results_record(run: ScoredRun) -> dict[str, Any]:
             "sr_change_p": None if math.isnan(p_value) else p_value,
             "retention": _rate(retention.get(pattern)),
         }
+    asked = _clarification(run)
+    if asked is not None:
+        results["talkdem_clarification"] = asked
     model = public_model(header.model)
     raw_name = header.model.get("name", "")
     return {
@@ -121,6 +149,7 @@ def results_record(run: ScoredRun) -> dict[str, Any]:
             "eval_date": header.created[:10],
             "created": header.created,
             "run_name": run.label,
+            **({"clarify": str(header.config["clarify"])} if asked is not None else {}),
         },
         "coverage": run.coverage.to_json(),
         "results": results,

@@ -147,6 +147,17 @@ def validate_record(record: Any, where: str) -> dict[str, Any]:
         _number(found["sr_change"], where, f"{field}.sr_change", -1, 1)  # a difference of two rates
         _number(found["sr_change_p"], where, f"{field}.sr_change_p", 0, 1)
 
+    if "talkdem_clarification" in results:  # only runs whose planner could ask have it
+        field = "results.talkdem_clarification"
+        asked = _mapping(results["talkdem_clarification"], where, field)
+        _keys(asked, ("questions_per_episode", "help_rate", "unneeded_questions", "retention"), where, field)
+        if config.get("clarify") not in ("oracle", "in-pattern"):
+            raise _fail(where, "config.clarify", "'oracle' or 'in-pattern' (the run asked)", config.get("clarify"))
+        _number(asked["questions_per_episode"], where, f"{field}.questions_per_episode", 0, 1000)
+        _number(asked["help_rate"], where, f"{field}.help_rate", 0, 1)
+        _number(asked["retention"], where, f"{field}.retention", 0, 1)
+        _count(asked["unneeded_questions"], where, f"{field}.unneeded_questions")
+
     intervals = _mapping(record.get("intervals", {}), where, "intervals")
     for name, bounds in intervals.items():
         field = f"intervals.{name}"

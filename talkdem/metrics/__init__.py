@@ -9,6 +9,15 @@ imported inside the tests that need it).
     scores.success_rate["clean"], scores.retention["average"], scores.flat()
 """
 
+from talkdem.metrics.clarification import (
+    CLARIFICATION_GROUPS,
+    ClarificationRow,
+    ClarificationScores,
+    asked_questions,
+    clarification_from_outcomes,
+    clarification_scores,
+    used_clarification,
+)
 from talkdem.metrics.episodes import (
     EpisodeResult,
     ScoringInputError,
@@ -38,10 +47,13 @@ from talkdem.schema import CONDITIONS
 
 __all__ = [
     "BOOTSTRAP_SEED",
+    "CLARIFICATION_GROUPS",
     "CONDITIONS",
     "ERROR_LABELS",
     "HAZARD_CATEGORIES",
     "MEASURES",
+    "ClarificationRow",
+    "ClarificationScores",
     "ClassifiedError",
     "EpisodeResult",
     "ErrorClassification",
@@ -51,7 +63,10 @@ __all__ = [
     "Scores",
     "ScoringInputError",
     "TestResult",
+    "asked_questions",
     "bootstrap_ci",
+    "clarification_from_outcomes",
+    "clarification_scores",
     "classify_error",
     "clustered_mean_test",
     "compare_retention",
@@ -75,4 +90,5 @@ __all__ = [
     "split_instruction_id",
     "stars",
     "task_retention",
+    "used_clarification",
 ]

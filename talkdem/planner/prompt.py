@@ -34,8 +34,10 @@ __all__ = [
     "EXAMPLE_PREFIX",
     "HUMAN_PREFIX",
     "Demonstration",
+    "append_exchange",
     "append_step",
     "build_prompt",
+    "clarify_intro",
     "format_plan",
     "prompt_head",
     "prompt_text",
@@ -155,3 +157,36 @@ def append_step(context: str, skill: str, next_index: int, failure: str = "") ->
     ` <skill> (this action failed: <message>), <n>.` (REI-Bench's and LoTa-Bench's wording)."""
     shown = f" (this action failed: {' '.join(failure.split()).lower()})" if failure.strip() else ""
     return f"{context} {skill}{shown}, {next_index}."
+
+
+def clarify_intro(questions: Sequence[str], budget: int) -> str:
+    """The line that tells the planner, in clarification mode, which questions it may ask (before the query,
+    where a strategy's preamble goes; kept in code, not a prompt file, so that runs without clarification keep
+    their prompt version and input hashes)."""
+    listed = "; ".join(questions)
+    return (
+        f"Robot: When a request is unclear, I can first ask you at most {budget} question(s), one per step: {listed}.\n"
+    )
+
+
+def append_exchange(context: str, question: str, answer: str) -> str:
+    """The context after a question and its answer: the current `Robot:` line is closed, the question and
+    answer follow as dialogue lines, and the steps so far are listed again on a new `Robot:` line (so the next
+    step is scored after the same kind of numbered list as every other step):
+
+        Robot: 1. find an apple, 2.   ->   Robot: 1. find an apple.
+                                           Robot: ask where to put it
+                                           Person: In the fridge.
+                                           Robot: 1. find an apple, 2.
+    """
+    head, marker, listing = context.rpartition("\nRobot: ")
+    if not marker:
+        raise ValueError("a planner context ends with a 'Robot:' line")
+    done, _, current = listing.rpartition(" ")
+    if not current.endswith(".") or not current[:-1].isdigit():
+        raise ValueError(f"a planner context ends with the next step's number, not {current!r}")
+    done = done.rstrip(",")
+    closed = f"{marker}{done}." if done else ""
+    restated = f"{done}, {current}" if done else current
+    spoken = " ".join(answer.split())
+    return f"{head}{closed}{marker}{' '.join(question.split())}\nPerson: {spoken}{marker}{restated}"

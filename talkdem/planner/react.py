@@ -17,6 +17,12 @@ How an action becomes a skill:
   articles and a trailing period are normalised). Text that is no skill is executed as written, so the
   simulator records it as a failed step (`instruction not supported`), and the model sees that.
 The thoughts are kept per step (`PlanResult.generated`) and stored in the run's traces.
+
+Clarification (`clarify` oracle or in-pattern): a sentence after the header names the fixed questions; while
+the budget lasts they are scored with the skills (or, for chat endpoints, a written action starting with `ask`
+is a question, matched to a slot by `talkdem.clarify.match_question`). A question is answered on a `Person:`
+line instead of an observation, and is not a step of the episode (it does not count towards `max_steps`);
+the thought before it stays in the context but is not kept with the actions' thoughts.
 """
 
 from __future__ import annotations
@@ -25,16 +31,21 @@ import hashlib
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Literal
 
+from talkdem.clarify.questions import is_question, question_texts
 from talkdem.llm.base import LanguageModel
 from talkdem.llm.requests import GenerateRequest
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration
-from talkdem.planner.saycan import PlanResult
+from talkdem.planner.saycan import PlanResult, check_clarify
 from talkdem.planner.strategies import PlannerInput
 from talkdem.seeds.records import SeedTask
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorBackend, load_simulator
 from talkdem.skills import vocabulary
+
+if TYPE_CHECKING:
+    from talkdem.clarify import Exchange, SimulatedPerson
 
 __all__ = ["REACT_HEADER", "ReActConfig", "ReActPlanner", "react_prompt_version"]
 
@@ -47,9 +58,20 @@ REACT_HEADER = (
 _SENTENCE_END = (".", "!", "?", "\n")
 
 
-def react_prompt_version() -> str:
-    """Names the prompt text (the header and the demonstrations' layout): changes when either changes."""
+def react_clarify_line(budget: int) -> str:
+    """The sentence after the header in clarification mode."""
+    return (
+        f"If the task is unclear, you may first ask the person at most {budget} question(s) as an action, one "
+        f"at a time: {'; '.join(question_texts())}. The person's answer follows on a Person: line.\n\n"
+    )
+
+
+def react_prompt_version(clarify: str = "none", budget: int = 0) -> str:
+    """Names the prompt text (the header and the demonstrations' layout, and in clarification mode the
+    questions' sentence): changes when any of them changes."""
     layout = REACT_HEADER + _demo_thought("find a mug") + _demo_thought("done")
+    if clarify != "none":
+        layout += react_clarify_line(budget)
     return "react-" + hashlib.sha256(layout.encode()).hexdigest()[:8]
 
 
@@ -61,6 +83,13 @@ class ReActConfig:
     action_tokens: int = 16
     """Chat endpoints: the budget of one written action."""
     simulator: str = "symbolic"
+    clarify: Literal["none", "oracle", "in-pattern"] = "none"
+    """Who answers the planner's questions (`talkdem.clarify`); `none`: no questions are offered."""
+    clarify_budget: int = 0
+    """Questions allowed per episode (0 without clarification)."""
+
+    def __post_init__(self) -> None:
+        check_clarify(self.clarify, self.clarify_budget)
 
     @property
     def planner_name(self) -> str:
@@ -104,7 +133,8 @@ class ReActPlanner:
         self.simulator = simulator or load_simulator(self.config.simulator)
 
     def prompt_for(self, planner_input: PlannerInput) -> str:
-        parts = [REACT_HEADER, planner_input.preamble]
+        clarify = react_clarify_line(self.config.clarify_budget) if self.config.clarify != "none" else ""
+        parts = [REACT_HEADER, clarify, planner_input.preamble]
         parts += [_render_demo(example) for example in self.examples]
         if planner_input.demonstrations:
             parts.append(planner_input.demonstrations_intro)
@@ -120,22 +150,33 @@ class ReActPlanner:
         text = " ".join(self.model.generate([request])[0].split())
         return text.rstrip(".!?") + "." if text else "(no thought)."
 
-    def _action(self, context: str) -> tuple[str, float, str]:
-        """(the skill string to execute, its score, the raw text written: chat endpoints only)."""
+    def _action(self, context: str, questions: Sequence[str] = ()) -> tuple[str, float, str]:
+        """(the skill string to execute or the question to ask, its score, the raw text written: chat
+        endpoints only)."""
         if self.model.supports_loglikelihood:
-            found = self.model.best_continuation(context, [" " + s for s in self.skills])
-            return self.skills[found.index], found.score, ""
+            candidates = [*self.skills, *questions]
+            found = self.model.best_continuation(context, [" " + s for s in candidates])
+            return candidates[found.index], found.score, ""
         from talkdem.sim.parser import canonical_text, parse_skill
 
         raw = self.model.generate([GenerateRequest(context + " ", max_new_tokens=self.config.action_tokens)])[0]
         written = " ".join(raw.split())
+        if questions and is_question(written):
+            return written, 0.0, raw
         skill = parse_skill(written)
         # An unparseable action is executed as written: the simulator fails it (`instruction not supported`).
         return (canonical_text(skill) if skill is not None else written), 0.0, raw
 
-    def plan(self, task: SeedTask, planner_input: PlannerInput) -> PlanResult:
+    def plan(self, task: SeedTask, planner_input: PlannerInput, person: SimulatedPerson | None = None) -> PlanResult:
+        """Plan and execute one episode; `person` answers questions (required in clarification mode)."""
         from talkdem.env.feedback import observation_of
 
+        if (self.config.clarify != "none") != (person is not None):
+            raise ValueError(f"clarify {self.config.clarify!r}: a simulated person is needed exactly in that mode")
+        questions: tuple[str, ...] = ()
+        if person is not None:
+            questions = question_texts()
+        dialogue: list[Exchange] = []
         start = time.perf_counter()
         prompt = self.prompt_for(planner_input)
         context = prompt
@@ -146,7 +187,13 @@ class ReActPlanner:
         while not episode.over:
             thought = self._thought(context)
             context += f"Thought: {thought}\nAction:"
-            skill, score, _raw = self._action(context)
+            offered = questions if len(dialogue) < self.config.clarify_budget else ()
+            skill, score, _raw = self._action(context, offered)
+            if person is not None and offered and is_question(skill):
+                exchange = person.ask(skill, len(plan))
+                dialogue.append(exchange)
+                context += f" {exchange.question}\nPerson: {exchange.answer}\n"
+                continue
             record = episode.step(skill)
             plan.append(skill)
             scores.append(score)
@@ -159,4 +206,5 @@ class ReActPlanner:
             trace=episode.finish(),
             planning_seconds=time.perf_counter() - start,
             generated=tuple(thoughts),
+            dialogue=tuple(dialogue) if person is not None else None,
         )

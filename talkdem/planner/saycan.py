@@ -16,6 +16,11 @@ and executes them in the simulator):
 - The episode ends at `done` or after `max_steps` steps (30, as REI-Bench).
 - Generative mode (for chat endpoints without prompt log-likelihoods): the model writes the next step and
   it is mapped to the most similar vocabulary skill; results are labelled `saycan-generative`.
+- Clarification (`clarify` oracle or in-pattern, `talkdem.clarify`): the fixed questions are scored with the
+  skills while the episode's budget (`clarify_budget`) lasts; generative mode asks when the written step starts
+  with `ask`. A question is not an action: it is answered by the simulated person, shown as dialogue
+  (`append_exchange`), and does not count towards `max_steps` (the budget bounds it instead: an episode has at
+  most `max_steps` actions and `clarify_budget` questions).
 """
 
 from __future__ import annotations
@@ -25,18 +30,22 @@ import logging
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
+from talkdem.clarify.questions import is_question, question_texts
 from talkdem.llm.base import LanguageModel
 from talkdem.llm.requests import GenerateRequest
 from talkdem.planner.examples import task_type_examples
-from talkdem.planner.prompt import Demonstration, append_step, build_prompt
+from talkdem.planner.prompt import Demonstration, append_exchange, append_step, build_prompt, clarify_intro
 from talkdem.planner.strategies import PlannerInput
 from talkdem.seeds.records import SeedTask
 from talkdem.sim import DEFAULT_MAX_STEPS, Episode, EpisodeTrace
 from talkdem.skills import vocabulary
 
-__all__ = ["FEEDBACK", "Feedback", "PlanResult", "SayCanConfig", "SayCanPlanner", "nearest_skill"]
+if TYPE_CHECKING:
+    from talkdem.clarify import Exchange, SimulatedPerson
+
+__all__ = ["FEEDBACK", "Feedback", "PlanResult", "SayCanConfig", "SayCanPlanner", "check_clarify", "nearest_skill"]
 
 _log = logging.getLogger(__name__)
 
@@ -51,6 +60,16 @@ FEEDBACK: dict[Feedback, tuple[bool, bool]] = {
 """Feedback policy -> (mask_failed, failure_message)."""
 
 
+def check_clarify(clarify: str, budget: int) -> None:
+    """A clarification setting a planner can run: a known mode, a budget only with one (and at least 1)."""
+    if clarify not in ("none", "oracle", "in-pattern"):
+        raise ValueError(f"clarify must be one of none, oracle, in-pattern, got {clarify!r}")
+    if clarify == "none" and budget:
+        raise ValueError("a question budget needs clarification (--clarify oracle or in-pattern)")
+    if clarify != "none" and budget < 1:
+        raise ValueError(f"with --clarify {clarify} the question budget must be at least 1, got {budget}")
+
+
 @dataclass(frozen=True)
 class SayCanConfig:
     max_steps: int = DEFAULT_MAX_STEPS
@@ -62,6 +81,13 @@ class SayCanConfig:
     """When > 0, score every skill at every step and log (and keep in the result) the best `log_top`."""
     failure_message: bool = True
     """Write a failed step with the simulator's message, as REI-Bench does."""
+    clarify: Literal["none", "oracle", "in-pattern"] = "none"
+    """Who answers the planner's questions (`talkdem.clarify`); `none`: no questions are offered."""
+    clarify_budget: int = 0
+    """Questions allowed per episode (0 without clarification; `talkdem run --clarify-budget`, default 2)."""
+
+    def __post_init__(self) -> None:
+        check_clarify(self.clarify, self.clarify_budget)
 
     @classmethod
     def with_feedback(cls, feedback: str, **fields: Any) -> SayCanConfig:
@@ -94,6 +120,8 @@ class PlanResult:
     """Generative mode: the raw text written at each step."""
     top_candidates: tuple[tuple[tuple[str, float], ...], ...] = field(default=())
     """With `log_top`: the best skills and their scores at each step."""
+    dialogue: tuple[Exchange, ...] | None = None
+    """Clarification mode: the questions asked and their answers, in order (None: not in that mode)."""
 
 
 def nearest_skill(text: str, skills: Sequence[str]) -> tuple[str, float]:
@@ -126,10 +154,13 @@ class SayCanPlanner:
             )
 
     def prompt_for(self, planner_input: PlannerInput) -> str:
+        intro = ""
+        if self.config.clarify != "none":
+            intro = clarify_intro(question_texts(), self.config.clarify_budget)
         return build_prompt(
             planner_input.instruction,
             self.examples,
-            preamble=planner_input.preamble,
+            preamble=intro + planner_input.preamble,
             demonstrations=planner_input.demonstrations,
             demonstrations_intro=planner_input.demonstrations_intro,
             interpretation=planner_input.interpretation,
@@ -144,12 +175,16 @@ class SayCanPlanner:
             scores = [s / max(n, 1) for s, n in zip(scores, lengths, strict=True)]
         return scores
 
-    def _choose(self, context: str, blocked: set[str]) -> tuple[str, float, str]:
+    def _choose(self, context: str, blocked: set[str], questions: Sequence[str] = ()) -> tuple[str, float, str]:
+        """(the chosen skill or question, its score, the text written: generative mode only)."""
         candidates = [s for s in self.skills if s not in blocked]
         if self.config.mode == "generative":
             text = self.model.generate([GenerateRequest(context + " ", max_new_tokens=16, stop=(",", "\n"))])[0]
+            if questions and is_question(text):
+                return " ".join(text.split()), 1.0, text
             skill, similarity = nearest_skill(text, candidates)
             return skill, similarity, text
+        candidates += questions
         if self.config.scoring == "sum" and not self.config.log_top:
             # Exact: the same skill as full scoring (backends with branch and bound score far fewer tokens).
             found = self.model.best_continuation(context, [" " + c for c in candidates])
@@ -162,16 +197,30 @@ class SayCanPlanner:
             _log.info("step %d: %s", len(self._top), ", ".join(f"{candidates[i]} {scores[i]:.3f}" for i in ranked))
         return candidates[best], scores[best], ""
 
-    def plan(self, task: SeedTask, planner_input: PlannerInput) -> PlanResult:
+    def plan(self, task: SeedTask, planner_input: PlannerInput, person: SimulatedPerson | None = None) -> PlanResult:
+        """Plan and execute one episode; `person` answers questions (required in clarification mode)."""
+        if (self.config.clarify != "none") != (person is not None):
+            raise ValueError(f"clarify {self.config.clarify!r}: a simulated person is needed exactly in that mode")
         start = time.perf_counter()
         prompt = self.prompt_for(planner_input)
         context, plan, step_scores, generated = prompt, [], [], []
         self._top = []
         blocked: set[str] = set()
+        dialogue: list[Exchange] = []
+        questions: tuple[str, ...] = ()
+        if person is not None:
+            questions = question_texts()
         # The episode steps along with the planner: each skill is executed once, as it is chosen.
         episode = Episode.start(task, max_steps=self.config.max_steps)
-        for step in range(1, self.config.max_steps + 1):
-            skill, score, text = self._choose(context, blocked)
+        step = 1
+        while step <= self.config.max_steps:
+            offered = questions if len(dialogue) < self.config.clarify_budget else ()
+            skill, score, text = self._choose(context, blocked, offered)
+            if person is not None and offered and is_question(skill):
+                exchange = person.ask(skill, step - 1)
+                dialogue.append(exchange)
+                context = append_exchange(context, exchange.question, exchange.answer)
+                continue
             plan.append(skill)
             step_scores.append(score)
             generated.append(text)
@@ -183,7 +232,8 @@ class SayCanPlanner:
             elif self.config.mask_failed:
                 blocked.add(skill)
             shown = outcome.message if self.config.failure_message and not outcome.ok else ""
-            context = append_step(context, skill, step + 1, shown)
+            step += 1
+            context = append_step(context, skill, step, shown)
         seconds = time.perf_counter() - start
         trace = episode.close()
         return PlanResult(
@@ -194,4 +244,5 @@ class SayCanPlanner:
             planning_seconds=seconds,
             generated=tuple(generated) if self.config.mode == "generative" else (),
             top_candidates=tuple(self._top),
+            dialogue=tuple(dialogue) if person is not None else None,
         )

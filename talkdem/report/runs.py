@@ -96,6 +96,9 @@ def run_labels(headers: Sequence[RunHeader]) -> list[str]:
     for header in headers:
         # Labels are published (tables, legends, file names): a model file is named by its file name.
         base = f"{public_model(header.model)['name'] or 'unknown model'} / {strategy_label(header.strategy)}"
+        clarify = header.config.get("clarify", "none")
+        if clarify != "none":  # a clarification run beside the same run without it
+            base += f" + ask ({clarify})"
         used[base] = used.get(base, 0) + 1
         labels.append(base if used[base] == 1 else f"{base} #{used[base]}")
     return labels

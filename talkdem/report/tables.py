@@ -395,4 +395,10 @@ def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE") -> l
     if tested is not None:
         tables.append(tested)
     tables += [hazard_table(runs), error_table(runs), plan_length_table(runs)]
+    # Shown only when a run asked questions (imported here: that module builds on this one's Table).
+    from talkdem.report.clarification import clarification_table
+
+    asked = clarification_table(runs)
+    if asked is not None:
+        tables.append(asked)
     return tables

@@ -243,6 +243,7 @@ _CONFIG_CHECKS: dict[str, tuple[str, Any]] = {
     "code_revisions": ("a list of strings", lambda v: isinstance(v, list) and all(isinstance(c, str) for c in v)),
     "served": ("an object", lambda v: isinstance(v, dict)),
     "plans": ("a string", lambda v: isinstance(v, str)),
+    "clarify_generator": ("a string", lambda v: isinstance(v, str)),
     "plans_sha256": ("a sha256 hex digest", lambda v: isinstance(v, str) and _is_digest(v)),
     "strategy_args": (
         "map names to strings, numbers, true/false or lists of them",

@@ -19,6 +19,7 @@ from collections.abc import Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from talkdem.instructions import Instruction
 from talkdem.llm.base import LanguageModel
@@ -39,7 +40,11 @@ from talkdem.runs.store import (
 )
 from talkdem.tasks import get_task
 
-__all__ = ["RESUME_KEYS", "RunSummary", "episode_record", "run_episodes"]
+if TYPE_CHECKING:
+    from talkdem.clarify import SimulatedPerson
+    from talkdem.tasks import Task
+
+__all__ = ["RESUME_KEYS", "RunSummary", "episode_record", "person_for", "run_episodes"]
 
 
 @dataclass(frozen=True)
@@ -70,10 +75,24 @@ def episode_record(
     )
     if thoughts:  # ReAct: the thought before each step, beside the steps it led to
         record = dataclasses.replace(record, trace={**record.trace, "thoughts": list(result.generated)})
+    if result.dialogue is not None:
+        # Clarification: every question and answer, beside the steps (an empty list: asked nothing). The plan
+        # keeps the actions alone, so replaying it (`verify-run`, `score`) executes what was executed.
+        dialogue = [exchange.to_json() for exchange in result.dialogue]
+        record = dataclasses.replace(record, trace={**record.trace, "dialogue": dialogue})
     return record
 
 
 Planner = SayCanPlanner | ReActPlanner
+
+
+def person_for(config: SayCanConfig | ReActConfig, instruction: Instruction, task: Task) -> SimulatedPerson | None:
+    """The simulated person who answers this episode's questions (None without clarification)."""
+    if config.clarify == "none":
+        return None
+    from talkdem.clarify import SimulatedPerson
+
+    return SimulatedPerson(config.clarify, instruction, task)
 
 
 def _planner(model: LanguageModel, config: SayCanConfig | ReActConfig) -> Planner:
@@ -181,7 +200,8 @@ def _run_locked(
     def plan_one(instruction: Instruction, planner_input: PlannerInput) -> PlanResult:
         planner = planners.get()  # a free client: the whole episode runs on it
         try:
-            return planner.plan(get_task(instruction.task_id), planner_input)
+            task = get_task(instruction.task_id)
+            return planner.plan(task, planner_input, person=person_for(config, instruction, task))
         finally:
             planners.put(planner)
 

@@ -36,6 +36,7 @@ __all__ = [
     "Scalar",
     "Setting",
     "check_same_run",
+    "clarify_generator",
     "differences",
     "header_value",
     "input_files",
@@ -81,6 +82,7 @@ def _outcome_keys() -> tuple[str, ...]:
         "dataset_hash",
         *planner,
         "config.strategy_args",
+        "config.clarify_generator",
         "inputs",
     )
 
@@ -223,15 +225,25 @@ class RunSpec:
         from talkdem.planner.prompt import prompt_version
         from talkdem.planner.react import react_prompt_version
 
+        clarify = self.planner.clarify
         if isinstance(self.planner, ReActConfig):
-            version = react_prompt_version()
+            version = react_prompt_version(clarify, self.planner.clarify_budget)
             feedback: dict[str, Any] = {}
         else:
-            # What a run sets that changes a rendered prompt names the prompt version too.
-            version = prompt_version(
-                {"failure_message": self.planner.failure_message, "strategy_args": dict(self.strategy_args)}
-            )
+            # What a run sets that changes a rendered prompt names the prompt version too (clarification only
+            # when on: a run without it keeps the version it always had).
+            settings: dict[str, object] = {
+                "failure_message": self.planner.failure_message,
+                "strategy_args": dict(self.strategy_args),
+            }
+            if clarify != "none":
+                settings["clarify_budget"] = self.planner.clarify_budget
+            version = prompt_version(settings)
             feedback = {"feedback": self.planner.feedback}
+        if clarify == "in-pattern":
+            # The answers' wording comes from the dataset generator: its name and phrase-bank version decide
+            # what an in-pattern outcome means (compared on resume and merge).
+            feedback["clarify_generator"] = clarify_generator()
         config: dict[str, Any] = {
             **planner_settings(self.planner),
             **feedback,
@@ -251,7 +263,17 @@ class RunSpec:
         )
 
 
+def clarify_generator() -> str:
+    """`<generator name>/<its prompt version>` of the generator that speaks in-pattern answers."""
+    from builders.generation import get_generator
+    from talkdem.clarify.person import GENERATOR
+
+    return f"{GENERATOR}/{get_generator(GENERATOR).prompt_version}"
+
+
 _UNKNOWN = object()
+_BEFORE_CLARIFICATION = {"clarify": "none", "clarify_budget": 0}
+"""Settings whose value in a header written before they existed is known: no run asked questions then."""
 
 
 def header_value(header: RunHeader, key: str) -> Any:
@@ -262,6 +284,8 @@ def header_value(header: RunHeader, key: str) -> Any:
         name = key.removeprefix("config.")
         if name in header.config:
             return header.config[name]
+        if name in _BEFORE_CLARIFICATION:
+            return _BEFORE_CLARIFICATION[name]
         return None if name in ("shard", "conditions", "limit") else _UNKNOWN
     if key == "inputs":
         return header.inputs or _UNKNOWN

@@ -12,7 +12,7 @@ one `SweepRun` per (model, strategy), each an ordinary `talkdem run` directory u
     strategies: [vanilla, {name: care, args: {care_order: best_last}}]
     conditions: [clean, intrusion:3]     # default: all 16
     tasks: 60                            # stratified over task types; default: all 300
-    planner: {type: scoring, max_steps: 10, feedback: message}
+    planner: {type: scoring, max_steps: 10, feedback: message}   # also clarify: oracle, clarify_budget: 2
 
 Every value is validated by `talkdem run`'s own parser and argument checks (`plan_run`), before anything runs:
 the keys of `args`, `planner` and a strategy's `args` are `talkdem run`'s option names (`base_url` for
@@ -52,6 +52,8 @@ PLANNER_ARGS = {
     "thought_tokens": "thought_tokens",
     "log_top": "log_top",
     "no_mask_failed": "no_mask_failed",
+    "clarify": "clarify",
+    "clarify_budget": "clarify_budget",
 }
 """`planner:` keys and the `talkdem run` option each sets (`type` is `--planner`)."""
 STRATEGY_ARGS = ("care_order", "care_dedupe", "generation_tokens", "generation_plain")
