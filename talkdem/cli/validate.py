@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 from pathlib import Path
 from typing import Any
 
@@ -25,6 +26,13 @@ def run(args: argparse.Namespace) -> int:
     from builders.validation.report import run_validation
 
     report = run_validation(args.data, args.out, fluency=not args.no_fluency, fluency_cache=args.fluency_cache)
+    stats_file = args.data / "build_stats.json"
+    if (args.out is None or args.out.resolve() == args.data.resolve()) and stats_file.is_file():
+        # the card shows validation.json: refresh it as `talkdem markers` does (here, not in builders.validation,
+        # which must not load the card's imports of the generator-side markers)
+        from builders.card import write_card
+
+        write_card(args.data, json.loads(stats_file.read_text()))
     for column in ("ours", "independent"):
         summary = report["markers"][column]
         if summary is not None:
@@ -32,5 +40,5 @@ def run(args: argparse.Namespace) -> int:
                 f"{column}: {summary['cells_within_tolerance']}/{summary['cells']} cells within tolerance, "
                 f"{summary['markers_moving_as_paper']}/{summary['markers']} markers move as in the paper"
             )
-    print(f"wrote {(args.out or args.data) / 'validation.json'} and validation.md")
+    print(f"wrote validation.json and validation.md in {args.out or args.data}")
     return 0

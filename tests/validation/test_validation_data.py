@@ -1,13 +1,15 @@
 """Issue 19's "done when" criteria that are properties of a dataset folder, measured on the shipped data.
 
-Parametrised on the folder: `TALKDEM_VALIDATE_DATA` (default: the checkout's `data/`). The independent
-markers are read from the folder's `validation.json` (`talkdem validate-dataset DIR`), or from the file
-`TALKDEM_VALIDATION_JSON` names; without one the test fails and says how to make it.
+Parametrised on the folder: `TALKDEM_VALIDATE_DATA` (folders separated by `os.pathsep`; default: the
+checkout's `data/`). The independent markers are read from the folder's `validation.json` (`talkdem
+validate-dataset DIR`), or from the file `TALKDEM_VALIDATION_JSON` names; without one the test fails and
+says how to make it.
 
 The data built before issue 19 (`rules-v2`) is known not to meet the criteria: for those prompt versions a
 test that finds its criterion unmet ends as an expected failure (XFAIL) that reports the numbers, and one
 that finds it met fails, so that the version is taken off `BEFORE_ISSUE_19` at once. Any other prompt
-version (the rebuilt `rules-v3`) is held to the criteria as an ordinary test.
+version (the rebuilt `rules-v3`) is held to the criteria as an ordinary test, and `TALKDEM_VALIDATE_STRICT=1`
+holds every version to them (the old data then fails, as it should).
 """
 
 from __future__ import annotations
@@ -37,12 +39,19 @@ BEFORE_ISSUE_19 = frozenset({"rules-v2"})
 MIN_CELLS_WITHIN = 30
 FORM_PATTERNS = ("topic_drift", "empty_speech", "intrusion")
 
-FOLDER = Path(os.environ.get("TALKDEM_VALIDATE_DATA") or repo_root() / "data")
+FOLDERS = [Path(p) for p in (os.environ.get("TALKDEM_VALIDATE_DATA") or str(repo_root() / "data")).split(os.pathsep)]
+STRICT = os.environ.get("TALKDEM_VALIDATE_STRICT") == "1"
+
+
+@pytest.fixture(scope="module", params=FOLDERS, ids=[f.name for f in FOLDERS])
+def folder(request: pytest.FixtureRequest) -> Path:
+    path: Path = request.param
+    return path
 
 
 @pytest.fixture(scope="module")
-def cells() -> list[Cell]:
-    return read_cells(FOLDER)
+def cells(folder: Path) -> list[Cell]:
+    return read_cells(folder)
 
 
 def _versions(cells: list[Cell]) -> set[str]:
@@ -52,7 +61,7 @@ def _versions(cells: list[Cell]) -> set[str]:
 def _judge(cells: list[Cell], problems: list[str], what: str) -> None:
     """Fail on problems, except for data from before issue 19, where they are the expected finding."""
     versions = _versions(cells)
-    if versions <= BEFORE_ISSUE_19:
+    if versions <= BEFORE_ISSUE_19 and not STRICT:
         if problems:
             pytest.xfail(f"{'/'.join(sorted(versions))} predates issue 19 ({what}): " + "; ".join(problems))
         pytest.fail(f"{sorted(versions)} now meets '{what}': remove it from BEFORE_ISSUE_19")
@@ -60,10 +69,10 @@ def _judge(cells: list[Cell], problems: list[str], what: str) -> None:
 
 
 @pytest.fixture(scope="module")
-def validation() -> Iterator[dict[str, Any]]:
-    path = Path(os.environ.get("TALKDEM_VALIDATION_JSON") or FOLDER / "validation.json")
+def validation(folder: Path) -> Iterator[dict[str, Any]]:
+    path = Path(os.environ.get("TALKDEM_VALIDATION_JSON") or folder / "validation.json")
     if not path.is_file():
-        pytest.fail(f"{path} missing: run `talkdem validate-dataset {FOLDER}` first", pytrace=False)
+        pytest.fail(f"{path} missing: run `talkdem validate-dataset {folder}` first", pytrace=False)
     yield json.loads(path.read_text())
 
 
