@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from builders.validation.markers import MARKER_LABELS
-from builders.validation.paper import LEVEL_KEYS, RELATIVE_TOLERANCE
+from builders.validation.paper import LEVEL_KEYS, RELATIVE_TOLERANCE, within
 from builders.validation.variety import MIN_ADDED, TOP, TOP_SHARE_GOAL
 
 __all__ = ["DEFINITIONS", "escape_markdown", "validation_markdown", "validation_section"]
@@ -140,6 +140,29 @@ def _markers_verdict(markers: dict[str, Any]) -> list[str]:
     if away:
         lines += ["", "Where the independent measures move away from the paper's numbers:", ""]
         lines += [f"- {line}" for line in away]
+    apart = []
+    for entry in markers["table"]:
+        ours, independent = entry["ours"], entry["independent"]
+        if ours is None or independent is None:
+            continue
+        digits = _digits(entry["marker"])
+        for k in LEVEL_KEYS:
+            a, b = ours["values"][k], independent["values"][k]
+            if not within(entry["marker"], a, b):  # the tolerance around our value
+                level = "clean" if k == "clean" else f"L{k}"
+                label = MARKER_LABELS[entry["marker"]]
+                apart.append(
+                    f"{label} ({_ABBREVIATIONS.get(entry['pattern'])}) {level}: ours {a:.{digits}f}, "
+                    f"independent {b:.{digits}f}"
+                )
+    if apart:
+        lines += [
+            "",
+            "Where ours and the independent measure disagree by more than the tolerance (our cue lists "
+            "count what the literature's definitions do not, or the reverse):",
+            "",
+        ]
+        lines += [f"- {line}" for line in apart]
     return lines
 
 

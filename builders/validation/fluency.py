@@ -90,7 +90,8 @@ class FluencyScorer:
         """Mean negative log-likelihood per token of each text (nats), scoring only texts not cached."""
         from talkdem.llm.requests import LoglikelihoodRequest
 
-        todo = sorted({t for t in texts if self._key(t) not in self._cache})
+        # in hash order, not text order: an interrupted run leaves a cache that is a random sample of every cell
+        todo = sorted({t for t in texts if self._key(t) not in self._cache}, key=self._key)
         for start in range(0, len(todo), _BATCH):
             batch = todo[start : start + _BATCH]
             sums = self.model.loglikelihood([LoglikelihoodRequest(self.context, t) for t in batch])
