@@ -194,12 +194,14 @@ def _variety_table(variety: dict[str, Any], order: Sequence[str]) -> list[str]:
     rows = [
         f"Variety of the added sentences with object names masked (`<obj>`): templates = distinct masked added "
         f"sentences; goal: where a cell has at least {MIN_ADDED} added sentences, the {TOP} most frequent cover "
-        f"at most {100 * TOP_SHARE_GOAL:.0f}% (✗ where they do not). Sentence counts: instructions per number "
-        "of sentences.",
+        f"at most {100 * TOP_SHARE_GOAL:.0f}% (✗ where they do not). Inserted: the added sentences that are not "
+        "a clean sentence edited (keeping under 60% of every clean sentence's words in order), i.e. what the pattern "
+        "put in beside the request; their top-10 share is the stricter reading of the goal. Sentence counts: "
+        "instructions per number of sentences.",
         "",
-        f"| Pattern | Level | Added | Templates | Top-{TOP} share | Distinct 4-grams | Sentence counts | "
-        "Most frequent template (count) |",
-        "| --- | ---: | ---: | ---: | ---: | ---: | --- | --- |",
+        f"| Pattern | Level | Added | Templates | Top-{TOP} share | Inserted | Inserted templates | "
+        f"Inserted top-{TOP} share | Distinct 4-grams | Sentence counts | Most frequent template (count) |",
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- | --- |",
     ]
     for pattern in order:
         for level in (1, 2, 3):
@@ -207,10 +209,13 @@ def _variety_table(variety: dict[str, Any], order: Sequence[str]) -> list[str]:
             if v is None:
                 continue
             failing = v["added_sentences"] >= MIN_ADDED and v["top10_share"] > TOP_SHARE_GOAL
+            inserted_failing = v["inserted_sentences"] >= MIN_ADDED and v["inserted_top10_share"] > TOP_SHARE_GOAL
             top: dict[str, Any] = v["top10"][0] if v["top10"] else {"sentence": "", "count": 0}
             rows.append(
                 f"| {_ABBREVIATIONS.get(pattern, pattern)} | {level} | {v['added_sentences']:,} | "
                 f"{v['templates']:,} | {100 * v['top10_share']:.0f}%{' ✗' if failing else ''} | "
+                f"{v['inserted_sentences']:,} | {v['inserted_templates']:,} | "
+                f"{100 * v['inserted_top10_share']:.0f}%{' ✗' if inserted_failing else ''} | "
                 f"{v['distinct_four_grams']:,} ({100 * v['distinct_four_gram_share']:.0f}%) | "
                 f"{_counts(v['sentence_counts'])} | {escape_markdown(top['sentence'])} ({top['count']}) |"
             )

@@ -15,15 +15,18 @@ from __future__ import annotations
 import re
 from collections import Counter
 from collections.abc import Iterable, Sequence
+from difflib import SequenceMatcher
 from typing import Any
 
 __all__ = [
+    "EDITED_COVERAGE",
     "MASK",
     "MIN_ADDED",
     "TOP",
     "TOP_SHARE_GOAL",
     "added_sentences",
     "cell_variety",
+    "is_edited",
     "masker",
     "object_forms",
     "sentence_count_distribution",
@@ -59,6 +62,22 @@ def added_sentences(variant: str, clean: str) -> list[str]:
         else:
             added.append(sentence)
     return added
+
+
+EDITED_COVERAGE = 0.6
+"""An added sentence that keeps at least this share of a clean sentence's words, in order, is that sentence
+edited (a vague word or a filler put into the request), not a sentence the pattern inserted."""
+
+
+def is_edited(sentence: str, clean: str) -> bool:
+    """True when `sentence` is one of `clean`'s sentences with words put in or changed."""
+    words = [w.lower() for w in _WORD.findall(sentence)]
+    for part in split_sentences(clean):
+        reference = [w.lower() for w in _WORD.findall(part)]
+        blocks = SequenceMatcher(None, words, reference, autojunk=False).get_matching_blocks()
+        if reference and sum(b.size for b in blocks) / len(reference) >= EDITED_COVERAGE:
+            return True
+    return False
 
 
 def type_names(rows: Iterable[dict[str, Any]]) -> set[str]:
@@ -103,10 +122,16 @@ def sentence_count_distribution(instructions: Sequence[str]) -> dict[int, int]:
 def cell_variety(pairs: Sequence[tuple[str, str]], mask: re.Pattern[str]) -> dict[str, Any]:
     """Masked variety of one cell from its (variant, clean control) pairs."""
     masked: Counter[str] = Counter()
+    inserted: Counter[str] = Counter()
     for variant, clean in pairs:
-        masked.update(mask.sub(MASK, s) for s in added_sentences(variant, clean))
+        for sentence in added_sentences(variant, clean):
+            template = mask.sub(MASK, sentence)
+            masked[template] += 1
+            if not is_edited(sentence, clean):
+                inserted[template] += 1
     total = sum(masked.values())
     top = masked.most_common(TOP)
+    n_inserted = sum(inserted.values())
     grams: Counter[tuple[str, ...]] = Counter()
     for sentence, count in masked.items():
         for gram in _four_grams(sentence):
@@ -117,6 +142,10 @@ def cell_variety(pairs: Sequence[tuple[str, str]], mask: re.Pattern[str]) -> dic
         "templates": len(masked),
         "top10_share": sum(n for _, n in top) / total if total else 0.0,
         "top10": [{"sentence": s, "count": n} for s, n in top],
+        # the sentences the pattern put in, without the edited request sentences (unique by their task wording)
+        "inserted_sentences": n_inserted,
+        "inserted_templates": len(inserted),
+        "inserted_top10_share": sum(n for _, n in inserted.most_common(TOP)) / n_inserted if n_inserted else 0.0,
         "four_grams": n_grams,
         "distinct_four_grams": len(grams),
         "distinct_four_gram_share": len(grams) / n_grams if n_grams else 0.0,

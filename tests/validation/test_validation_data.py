@@ -107,3 +107,14 @@ def test_independent_markers_near_the_paper(cells: list[Cell], validation: dict[
         if not row["independent"]["moves_as_paper"]:
             problems.append(f"{row['marker']} ({row['pattern']}) does not move as in the paper")
     _judge(cells, problems, f">= {MIN_CELLS_WITHIN}/44 independent cells within tolerance, every marker in direction")
+
+
+def test_masked_top10_share_of_inserted_sentences_at_most_40_percent(cells: list[Cell]) -> None:
+    """The stricter reading: without the edited request sentences, whose task wording makes each unique."""
+    mask = masker(type_names(r for c in cells for r in c.rows))
+    problems = []
+    for cell in cells[1:]:
+        v = cell_variety([(r["instruction"], r["clean_instruction"]) for r in cell.rows], mask)
+        if v["inserted_sentences"] >= MIN_ADDED and v["inserted_top10_share"] > TOP_SHARE_GOAL:
+            problems.append(f"{cell.abbreviation} L{cell.level} top-10 {100 * v['inserted_top10_share']:.0f}%")
+    _judge(cells, problems, f"masked top-10 share of inserted sentences <= {100 * TOP_SHARE_GOAL:.0f}%")

@@ -55,6 +55,9 @@ def test_far_values_are_flagged_and_rendered() -> None:
                 "templates": 2,
                 "top10_share": 1.0,
                 "top10": [{"sentence": "The <obj> | I meant", "count": 39}],
+                "inserted_sentences": 20,
+                "inserted_templates": 1,
+                "inserted_top10_share": 1.0,
                 "four_grams": 10,
                 "distinct_four_grams": 5,
                 "distinct_four_gram_share": 0.5,
@@ -64,7 +67,7 @@ def test_far_values_are_flagged_and_rendered() -> None:
     }
     text = validation_markdown(report)
     assert "**2 of 44 cells**" in text and "Lexical diversity (MTLD) (OS): outside the paper's band" in text
-    assert "| OS | 2 | 40 | 2 | 100% ✗ |" in text
+    assert "| OS | 2 | 40 | 2 | 100% ✗ | 20 | 1 | 100% |" in text  # 20 inserted: under the 30 of the goal
     assert r"The &lt;obj&gt; \| I meant (39)" in text  # the embedded sentence cannot break the table
     assert "Ours (`builders/markers`): not computed" in text
 

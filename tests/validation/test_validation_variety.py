@@ -43,8 +43,23 @@ def test_masked_variety_counts_templates_not_objects() -> None:
     assert result["top10"][0] == {"sentence": "The <obj>, I meant the <obj>.", "count": 3}
     assert result["top10_share"] == 1.0
     assert result["sentence_counts"] == {2: 2, 3: 1}
+    # none of the four is an edited clean sentence
+    assert result["inserted_sentences"] == 4 and result["inserted_templates"] == 2
     # 4-grams of the masked sentences: "the <obj> i meant", "<obj> i meant the", "i meant the <obj>" (x3 each)
     assert result["distinct_four_grams"] == 3 and result["four_grams"] == 9
+
+
+def test_edited_request_sentences_are_not_inserted_ones() -> None:
+    mask = masker(["Mug", "Sink", "Apple"])
+    clean = "Hello, put the mug in the sink, thanks."
+    pairs = [
+        ("Hello, put the thingy in the sink, thanks. I mean the mug.", clean),
+        ("Hello, put the, oh, the dog, the mug in the sink, thanks.", clean),
+    ]
+    result = cell_variety(pairs, mask)
+    assert result["added_sentences"] == 3
+    assert result["inserted_sentences"] == 1  # "I mean the <obj>."; the other two are the request edited
+    assert result["inserted_top10_share"] == 1.0
 
 
 def test_added_sentences_are_a_multiset_difference() -> None:
