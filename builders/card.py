@@ -250,7 +250,8 @@ def render_card(stats: dict[str, Any], folder: Path) -> str:
         markers_part += "\n\n" + _departures()
     else:
         markers_part = "Not computed for this build yet: run `talkdem markers`."
-    markers_part += "\n\n#### Independent validation\n\n" + validation_section(folder)
+    if validation := validation_section(folder):  # empty until `talkdem validate-dataset` has run
+        markers_part += "\n\n#### Independent validation\n\n" + validation
     info = stats["build"]
     counts = stats["counts"]
     return _TEMPLATE.format(

@@ -255,8 +255,9 @@ def validation_markdown(report: dict[str, Any]) -> str:
 
 
 def validation_section(folder: Path) -> str:
-    """The card's section for a dataset folder: rendered from its `validation.json`, or how to compute it."""
+    """The card's section for a dataset folder, rendered from its `validation.json`; empty without one (so a
+    card built before the validation ran is unchanged)."""
     path = folder / "validation.json"
     if not path.is_file():
-        return "Independent validation: not computed for this build yet (run `talkdem validate-dataset DIR`)."
+        return ""
     return validation_markdown(json.loads(path.read_text()))

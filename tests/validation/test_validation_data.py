@@ -69,10 +69,13 @@ def _judge(cells: list[Cell], problems: list[str], what: str) -> None:
 
 
 @pytest.fixture(scope="module")
-def validation(folder: Path) -> Iterator[dict[str, Any]]:
+def validation(folder: Path, cells: list[Cell]) -> Iterator[dict[str, Any]]:
     path = Path(os.environ.get("TALKDEM_VALIDATION_JSON") or folder / "validation.json")
     if not path.is_file():
-        pytest.fail(f"{path} missing: run `talkdem validate-dataset {folder}` first", pytrace=False)
+        message = f"{path} missing: run `talkdem validate-dataset {folder}` first"
+        if _versions(cells) <= BEFORE_ISSUE_19 and not STRICT:
+            pytest.xfail(message + " (the data predates issue 19; TALKDEM_VALIDATION_JSON names a file elsewhere)")
+        pytest.fail(message, pytrace=False)
     yield json.loads(path.read_text())
 
 
