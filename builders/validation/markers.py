@@ -184,10 +184,8 @@ def _editing_positions(sentence: Sequence[Any]) -> list[int]:
             continue
         if lower == "no" and not (token.pos_ == "INTJ" or token.dep_ == "intj"):
             continue  # the determiner ("no milk"), not the editing term
-        if lower == "rather" and (i == 0 or not (sentence[i - 1].is_punct or sentence[i - 1].lower_ == "or")):
+        if lower == "rather" and i > 0 and not sentence[i - 1].is_punct:
             continue  # "rather big" is a degree adverb; "or rather" is matched as a phrase
-        if lower == "rather" and sentence[i - 1].lower_ == "or":
-            continue  # already a phrase match
         positions.append(i)
     return sorted(set(positions))
 

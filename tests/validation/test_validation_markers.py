@@ -43,6 +43,7 @@ def test_repairs_by_hand(nlp: Any) -> None:
     assert repair_count(nlp("Put it in the red box, no, sorry, the blue box.")) == 1
     # no editing term: a second direct object of "put" is the alteration of the first
     assert repair_count(nlp("Put the mug, uh, the cup in the sink.")) == 1
+    assert repair_count(nlp("It is rather big, put it in the box.")) == 0  # the degree adverb
     # two corrections far apart in two sentences
     assert repair_count(nlp("Get the spoon, I mean the fork. Put it in the drawer, or rather the sink.")) == 2
 
