@@ -175,10 +175,16 @@ def _fluency_table(fluency: dict[str, Any], order: Sequence[str]) -> list[str]:
         "thread; the model that ranks candidates is another): mean per-instruction perplexity (exp of the mean "
         f"negative log-likelihood per token) over the clean controls' ({clean:.1f}). 1.00 is as fluent as "
         "the clean requests.",
-        "",
-        "| Pattern | L1 | L2 | L3 |",
-        "| --- | ---: | ---: | ---: |",
     ]
+    below = [k for k, v in cells.items() if k != "clean" and v["relative_perplexity"] < 1]
+    if below:
+        rows[0] += (
+            f" {len(below)} of {len(cells) - 1} cells score below the clean controls: per-token perplexity falls "
+            "with formulaic and repeated material (fillers, a correction that repeats the object's name, stock "
+            "sentences), so a lower figure is not by itself more natural speech. Compare a cell across builds, and "
+            "read it beside the variety table."
+        )
+    rows += ["", "| Pattern | L1 | L2 | L3 |", "| --- | ---: | ---: | ---: |"]
     for pattern in order:
         values = [cells.get(f"{pattern}:{level}") for level in (1, 2, 3)]
         shown = " | ".join("-" if v is None else f"{v['relative_perplexity']:.2f}" for v in values)
