@@ -121,3 +121,23 @@ def test_masked_top10_share_of_inserted_sentences_at_most_40_percent(cells: list
         if v["inserted_sentences"] >= MIN_ADDED and v["inserted_top10_share"] > TOP_SHARE_GOAL:
             problems.append(f"{cell.abbreviation} L{cell.level} top-10 {100 * v['inserted_top10_share']:.0f}%")
     _judge(cells, problems, f"masked top-10 share of inserted sentences <= {100 * TOP_SHARE_GOAL:.0f}%")
+
+
+BASELINE = repo_root() / "docs" / "validation" / "rules-v2.json"
+"""`talkdem validate-dataset` on the shipped rules-v2 data: the fluency every rebuilt cell must beat."""
+
+
+def test_every_cell_more_fluent_than_rules_v2(cells: list[Cell], validation: dict[str, Any]) -> None:
+    stored = json.loads(BASELINE.read_text())
+    baseline = stored["fluency"]
+    if "fluency" not in validation:
+        pytest.fail("validation.json has no fluency section: run validate-dataset without --no-fluency")
+    assert validation["fluency"]["model"] == baseline["model"], "fluency scored by another model than the baseline"
+    if _versions(cells) == set(stored["prompt_versions"]):
+        pytest.xfail(f"{'/'.join(stored['prompt_versions'])} is the baseline itself")
+    problems = [
+        f"{key}: perplexity {value['perplexity']:.1f} >= rules-v2's {baseline['cells'][key]['perplexity']:.1f}"
+        for key, value in validation["fluency"]["cells"].items()
+        if key != "clean" and value["perplexity"] >= baseline["cells"][key]["perplexity"]
+    ]
+    _judge(cells, problems, "every cell more fluent (lower mean perplexity) than rules-v2")
