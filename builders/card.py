@@ -10,6 +10,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from builders.validation.card import validation_section
 from talkdem.schema import ALL, CLEAN, MEMORY_BANK, PATTERN_CONFIGS, PATTERNS, TASKS, data_files
 
 __all__ = ["configs_yaml", "markers_table", "render_card", "write_card"]
@@ -266,6 +267,8 @@ def render_card(stats: dict[str, Any], folder: Path) -> str:
         markers_part += "\n\n" + _departures()
     else:
         markers_part = "Not computed for this build yet: run `talkdem markers`."
+    if validation := validation_section(folder):  # empty until `talkdem validate-dataset` has run
+        markers_part += "\n\n#### Independent validation\n\n" + validation
     info = stats["build"]
     counts = stats["counts"]
     return _TEMPLATE.format(

@@ -1,0 +1,11 @@
+"""Validation the generator never sees: the paper's markers as the literature defines them, fluency, variety.
+
+Nothing here imports `builders.generation`, `builders.verification`, `builders.lexicon` or
+`builders.markers`, and the generator imports nothing from here (a test checks both), so the figures cannot
+be met by matching the generator's own cue lists.
+"""
+
+from builders.validation.card import validation_markdown, validation_section
+from builders.validation.report import run_validation
+
+__all__ = ["run_validation", "validation_markdown", "validation_section"]
