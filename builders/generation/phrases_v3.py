@@ -45,7 +45,7 @@ def frames(*rows: tuple[str, str] | tuple[str, str, str] | tuple[str, str, str, 
 
 ANY_MOVABLE = "food cutlery crockery cookware keepsake gadget pocket reading textile toiletry bottle sport plant"
 HOUSEHOLD = "keepsake crockery cookware lamp picture seat table storage appliance plant textile reading gadget"
-GIFTS = "keepsake crockery cookware lamp picture textile gadget"
+GIFTS = "keepsake crockery cookware lamp picture textile"  # no gadget: nobody gave a phone as a wedding present
 # Things that last for years and stay put or get kept (no food, no fixture): "lasted longer than the house".
 DURABLE = "keepsake crockery cookware cutlery lamp picture seat table storage appliance textile reading gadget pocket"
 # Things one keeps beside another thing (portable, not food): "kept {t_the} right by {x_the}".
@@ -440,7 +440,7 @@ NEAR_TIED = frames(
     (HOUSEHOLD, "We had {t_a} and {x_a} on {street} too, in the very same spots.", HOUSEHOLD),
     (DURABLE, "I always think of {spouse_name} when I notice {t_the} next to {x_the}.", DURABLE),
     (FURNITURE, "{T_the} used to be over by {x_the}, before {child2_name} rearranged everything.", FURNITURE),
-    (PORTABLE, "My mother kept {t_the} and {x_the} side by side too, in {hometown}.", PORTABLE),
+    (PORTABLE, "My mother always kept {t_a} and {x_a} side by side, back in {hometown}.", PORTABLE),
     (FURNITURE, "{Pet} used to sleep between {t_the} and {x_the}.", FURNITURE),
     ("*", "{Friend_name} always comments on {t_the} and {x_the}.", "*"),
     (DURABLE, "Funny how {t_the} and {x_the} have both lasted longer than the house on {street}.", DURABLE),
@@ -480,9 +480,9 @@ MEMORY = frames(
     ("crockery cookware food cutlery", "{Colleague} at {workplace} always had {x_a} on the go."),
     ("keepsake textile sport", "{Grandchild_name} used to hide {x_the} when {grandchild_he} was tiny."),
     ("sport", "{Child_name} broke a pane with {x_a} once, playing in the yard."),
-    ("produce", "We grew our own, you know, {x_the} and all, on the allotment in {hometown}."),
+    ("produce", "We grew our own on the allotment in {hometown}, you know, {x_name} and all."),
     ("food", "My mother sent me to the shop for {x_a} every Saturday."),
-    ("food", "At {holiday} we lived on {x_the} and chips."),
+    ("food", "At {holiday} we had {x_a} with every meal, near enough."),
     ("seat", "{Spouse_name} fell asleep in {x_one} like {x_that} every evening.", "", False),
     ("seat", "{Spouse_name} used to fall asleep in {x_that} every evening.", "", True),
     ("table storage", "{Spouse_name} made {x_one} just like {x_that} in the shed, you know."),
@@ -491,12 +491,12 @@ MEMORY = frames(
     ("gadget", "{Child_name} showed me how {x_the} works three times, bless {child_him}."),
     ("pocket", "I left {x_a} on the bus once, and {spouse_name} went all the way to the depot."),
     ("reading", "{Friend_name} and I used to swap {x_the} over the fence."),
-    ("textile", "My mother made {x_one} like {x_that} out of an old dress."),
+    ("textile", "My mother made {x_one} like {x_that} herself, on her old machine."),
     ("textile", "At {holiday} the landlady kept a close eye on {x_the}, and on us."),
     ("cleaning", "{Spouse_name} bought {x_a} from a man at the door once, and we never used {x_it}."),
     ("plant", "{Spouse_name} talked to {x_the} every morning, I'm sure of it.", "", False),
     ("plant", "My father won a prize in {hometown} for {x_one} like {x_that}."),
-    ("bottle", "We opened {x_one} like {x_that} the night {grandchild_name} was born."),
+    ("bottle", "My mother kept {x_one} just like {x_that} by her back door."),
     ("keepsake", "{X_the} came all the way from {holiday} on my lap."),
     ("crockery", "{Child2_name} broke {x_one} just like {x_that} on {child2_his} fifth birthday."),
     ("cookware cutlery", "{X_the} {x_was} my mother's, and her mother's before that."),

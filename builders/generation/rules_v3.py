@@ -484,11 +484,20 @@ class RulesV3Generator:
 
     # --- Topic Drift ----------------------------------------------------------------------------------------------
     def _frame(
-        self, rng: random.Random, bank: Sequence[V.Frame], pool: list[str], who: Persona, task_objects: list[str]
+        self,
+        rng: random.Random,
+        bank: Sequence[V.Frame],
+        pool: list[str],
+        who: Persona,
+        task_objects: list[str],
+        spent: set[str] | None = None,
     ) -> tuple[str, str] | None:
-        """(sentence, scene object) from the first frame (in a random order) that some pool object fits."""
+        """(sentence, scene object) from the first frame (in a random order) that some pool object fits; a frame in
+        `spent` (said already in this utterance: "Betty always wanted the plate ... Betty always wanted the
+        painting") is skipped, and the chosen one is added to it."""
+        spent = set() if spent is None else spent
         for frame in rng.sample(list(bank), len(bank)):
-            if frame.late is not None and frame.late != who.late_spouse:
+            if (frame.late is not None and frame.late != who.late_spouse) or frame.text in spent:
                 continue
             fits = [c for c in pool if "*" in frame.x or kinds_of(c) & frame.x]
             if not fits:
@@ -499,6 +508,7 @@ class RulesV3Generator:
                 if not tied:
                     continue
                 objects["t"] = noun(rng.choice(tied))
+            spent.add(frame.text)
             return _cap(frame.text.format(**self._fields(who, **objects))), fits[0]
         return None
 
@@ -516,8 +526,11 @@ class RulesV3Generator:
         texts: list[str] = []
         tied = chance(rng, "topic_drift", level, "the remark ties a task object to a scene object")
         stages = [V.NEAR_TIED if tied and task_objects else V.NEAR] + [V.MEMORY] * (objects - 1)
+        spent: set[str] = set()
         for bank in stages:
-            found = self._frame(rng, bank, pool, who, task_objects) or self._frame(rng, V.NEAR, pool, who, [])
+            found = self._frame(rng, bank, pool, who, task_objects, spent) or self._frame(
+                rng, V.NEAR, pool, who, [], spent
+            )
             if found is None:
                 break
             sentence, used = found

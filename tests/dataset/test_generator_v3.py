@@ -387,3 +387,19 @@ def test_descriptions_fit_every_object_of_their_kind() -> None:
             said = text.format(**fields)
             assert not re.search(r"\bone of [A-Z]", said), said  # "the old one of David": a possessive
             assert not re.search(r"\b(?:spout|beeps?|buttons|round|hums)\b", said), said
+
+
+def test_no_drift_frame_twice_in_one_utterance(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
+    """ "Betty always wanted the plate, and never got it. Mind you, Betty always wanted the painting, ..."."""
+    leads = tuple(V.DRIFT_LEADS)
+    for row in _variants(v3_rows):
+        if row["pattern"] != "topic_drift":
+            continue
+        masked = []
+        for sentence in added_sentences(row["instruction"], row["clean_instruction"]):
+            for lead in leads:
+                sentence = sentence[len(lead) :] if sentence.startswith(lead) else sentence
+            for mention in reversed(find_mentions(sentence)):
+                sentence = sentence[: mention.start] + "<obj>" + sentence[mention.end :]
+            masked.append(sentence.lower())
+        assert len(masked) == len(set(masked)), row["instruction"]
