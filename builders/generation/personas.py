@@ -190,14 +190,14 @@ _HABITS = (
 )
 _PETS = (
     "our old dog Biscuit",
-    "the cat, Sooty",
+    "our cat Sooty",
     "our budgie Joey",
-    "the dog, Patch",
+    "our dog Patch",
     "our cat Tiddles",
-    "old Rex, the dog",
-    "the tortoise, Speedy",
+    "our old dog Rex",
+    "Speedy the tortoise",
     "our collie Lassie",
-    "the cat, Ginger",
+    "Ginger the cat",
     "our terrier Scamp",
 )
 _STREETS = (

@@ -45,7 +45,13 @@ def frames(*rows: tuple[str, str] | tuple[str, str, str] | tuple[str, str, str, 
 
 ANY_MOVABLE = "food cutlery crockery cookware keepsake gadget pocket reading textile toiletry bottle sport plant"
 HOUSEHOLD = "keepsake crockery cookware lamp picture seat table storage appliance plant textile reading gadget"
-GIFTS = "keepsake crockery cookware lamp picture textile gadget"
+GIFTS = "keepsake crockery cookware lamp picture textile"  # no gadget: nobody gave a phone as a wedding present
+# Things that last for years and stay put or get kept (no food, no fixture): "lasted longer than the house".
+DURABLE = "keepsake crockery cookware cutlery lamp picture seat table storage appliance textile reading gadget pocket"
+# Things one keeps beside another thing (portable, not food): "kept {t_the} right by {x_the}".
+PORTABLE = "keepsake crockery cookware cutlery gadget pocket reading textile toiletry bottle sport plant"
+# Furniture a pet sleeps between or a room is arranged around.
+FURNITURE = "seat table storage lamp appliance"
 
 # --- Referential Imprecision ---------------------------------------------------------------------------------
 VAGUE_SINGULAR = ("thing", "thingy", "whatsit", "whatchamacallit", "thingamajig", "doodad", "thingamabob", "gizmo")
@@ -81,7 +87,7 @@ NAME_CORES = (
     "I'm talking about {name}",
     "{name}, I should have said",
     "I meant {name}",
-    "{name} is what I meant",
+    "{name} {name_is} what I meant",
     "{name}, that's what it's called",
     "{name}, if I'd said it right",
     "{name}, of course",
@@ -176,7 +182,6 @@ DESCRIPTIONS: dict[str, tuple[str, ...]] = {
         "the one {grandchild_name} likes",
         "the one in the bag from the shop",
         "the one {spouse_name} always bought",
-        "the round one",
         "the one we had with our tea",
     ),
     "cutlery": (
@@ -184,8 +189,8 @@ DESCRIPTIONS: dict[str, tuple[str, ...]] = {
         "the one with the wooden handle",
         "the shiny one",
         "the one {spouse_name} liked best",
-        "the one from the canteen we were given",
-        "the long one with the handle",
+        "the one we had as a wedding present",
+        "the one my mother left me",
     ),
     "crockery": (
         "the one with the blue rim",
@@ -212,9 +217,9 @@ DESCRIPTIONS: dict[str, tuple[str, ...]] = {
         "the one from {holiday}",
     ),
     "gadget": (
-        "the one with the buttons",
         "the one {child_name} gave me",
-        "the little one that beeps",
+        "the one {grandchild_name} sorted out for me",
+        "the new one",
         "the one I can never work",
         "the one {grandchild_name} fiddles with",
     ),
@@ -255,13 +260,18 @@ DESCRIPTIONS: dict[str, tuple[str, ...]] = {
     ),
     "sport": (
         "the one {grandchild_name} plays with",
-        "the old one of {child_name}",
+        "{child_name}'s old one",
         "the one from the garden",
-        "the one {child_name} had as a boy",
+        "the one {child_name} had as a child",
     ),
-    "plant": ("the green one", "the one {friend_name} gave me", "the one by the door", "the one with the spout"),
+    "plant": ("the one {friend_name} gave me", "the one by the door", "the one I like best", "the one from the garden"),
     "storage": ("the brown one", "the one we keep odds and ends in", "the big one", "the one from the loft"),
-    "appliance": ("the big white one", "the one that hums", "the one with the buttons", "the one in the corner"),
+    "appliance": (
+        "the one {spouse_name} bought",
+        "the one we've had for years",
+        "the one in the corner",
+        "the old one",
+    ),
 }
 GENERIC_DESCRIPTIONS = ("the one I always use", "the one that's usually about", "the one we had out earlier")
 
@@ -293,12 +303,12 @@ CORRECTION_CORES = (
     "{name}, I should have said",
     "it's {name}, not {comp}",
     "I mean {name}",
-    "{name} is what I want",
+    "{name} {name_is} what I want",
     "I said {comp}, didn't I, I meant {name}",
     "not {comp} at all, {name}",
     "{name}, sorry",
     "I've said {comp} again, it's {name}",
-    "{comp} was wrong, {name}",
+    "{comp} {comp_was} wrong, {name}",
     "{name} I mean, {name}",
     "{name}, that's the one",
 )
@@ -407,30 +417,33 @@ EMPTY_CORES_PLAIN = (
     "the same old business",
 )
 EMPTY_TAGS = ("", "", "", ", you know", ", I suppose", ", really", ", kind of", ", sort of", ", and all that", ", eh")
-EMPTY_TAIL_CUES = ("you know", "sort of", "kind of", "and all that", "I don't know")
+EMPTY_TAIL_CUES = (
+    "you know", "sort of", "kind of", "and all that", "I don't know", "and what have you", "or whatever",
+    "and everything", "and so on",
+)  # fmt: skip
 
 # --- Topic Drift --------------------------------------------------------------------------------------------------
 # Near the task: a remark on a scene object, sometimes tied to a task object ({t_...}).
 NEAR_TIED = frames(
-    ("*", "{T_the} always lived next to {x_the} when {spouse_name} was alive.", "*", True),
-    ("*", "{Spouse_name} always kept {t_the} right by {x_the}, I never knew why.", "*"),
+    (DURABLE, "{T_the} always lived next to {x_the} when {spouse_name} was alive.", DURABLE, True),
+    (PORTABLE, "{Spouse_name} always kept {t_the} right by {x_the}, I never knew why.", PORTABLE),
     (GIFTS, "{X_the} and {t_the} came from the same shop in {hometown}, I think.", GIFTS),
     (GIFTS, "{X_the} {x_was} a wedding present, same as {t_the}.", GIFTS),
     ("*", "{T_the} and {x_the}, that's the two {grandchild_name} always notices.", "*"),
     (HOUSEHOLD, "{X_the} {x_has} been in this house as long as {t_the}.", HOUSEHOLD),
-    ("*", "Funny, {x_the} {x_is} right where {t_the} used to be.", "*"),
+    (FURNITURE, "Funny, {x_the} {x_is} right where {t_the} used to be.", FURNITURE),
     ("produce", "{T_the} and {x_the}, my mother grew both in the garden in {hometown}.", "produce"),
     ("food", "We had {x_a} and {t_a} every Sunday when {child_name} was little.", "food"),
     ("crockery cutlery cookware", "{X_the} goes with {t_the}, it was all one service from {sibling_name}.", "crockery"),
     ("*", "{Grandchild_name} drew {t_the} and {x_the} for me once, at school.", "*"),
     ("*", "{T_the} and {x_the}, I could find those two in the dark.", "*"),
-    ("*", "We had {t_a} and {x_a} on {street} too, in the very same spots.", "*"),
-    ("*", "I always think of {spouse_name} when I notice {t_the} next to {x_the}.", "*"),
-    ("*", "{T_the} used to be over by {x_the}, before {child2_name} rearranged everything.", "*"),
-    ("*", "My mother kept {t_a} by {x_a} too, in {hometown}.", "*"),
-    ("*", "{Pet} used to sleep between {t_the} and {x_the}.", "*"),
+    (HOUSEHOLD, "We had {t_a} and {x_a} on {street} too, in the very same spots.", HOUSEHOLD),
+    (DURABLE, "I always think of {spouse_name} when I notice {t_the} next to {x_the}.", DURABLE),
+    (FURNITURE, "{T_the} used to be over by {x_the}, before {child2_name} rearranged everything.", FURNITURE),
+    (PORTABLE, "My mother always kept {t_a} and {x_a} side by side, back in {hometown}.", PORTABLE),
+    (FURNITURE, "{Pet} used to sleep between {t_the} and {x_the}.", FURNITURE),
     ("*", "{Friend_name} always comments on {t_the} and {x_the}.", "*"),
-    ("*", "Funny how {t_the} and {x_the} have both lasted longer than the house on {street}.", "*"),
+    (DURABLE, "Funny how {t_the} and {x_the} have both lasted longer than the house on {street}.", DURABLE),
 )
 NEAR = frames(
     (HOUSEHOLD, "{X_that} {x_has} been here for ages."),
@@ -439,11 +452,11 @@ NEAR = frames(
     (HOUSEHOLD, "We've had {x_that} since we moved to {street}."),
     ("*", "{Grandchild_name} always asks about {x_the}."),
     (GIFTS, "{Sibling_name} gave us {x_the}, you know."),
-    ("*", "{X_the} {x_was} in the same spot when {child_name} was small."),
+    (DURABLE + " fixture", "{X_the} {x_was} in the same spot when {child_name} was small."),
     (GIFTS + " storage", "My mother had {x_one} just like {x_that}."),
     ("*", "I notice {x_the} every time I come in here."),
     (HOUSEHOLD, "{X_the} {x_is} older than {child_name}, I think."),
-    ("*", "{Friend_name} has {x_one} exactly the same."),
+    (DURABLE, "{Friend_name} has {x_one} exactly the same."),
     ("appliance lamp gadget", "{X_the} made a funny noise last week."),
     ("keepsake picture plant textile", "{X_the} always makes me think of {hometown}."),
     ("crockery cookware cutlery", "{X_the} came from our first house on {street}."),
@@ -460,16 +473,16 @@ NEAR = frames(
 MEMORY = frames(
     (GIFTS, "My mother had {x_one} just like {x_that} in her front room."),
     (GIFTS, "{Sibling} gave us {x_one} like {x_that} for our wedding."),
-    ("*", "{Spouse_name} used to say {x_the} {x_was} the best thing we ever bought.", "", False),
+    (DURABLE, "{Spouse_name} used to say {x_the} {x_was} the best thing we ever bought.", "", False),
     (GIFTS + " storage seat table", "We had {x_one} like {x_that} at {holiday}, years ago."),
     ("keepsake crockery cookware picture", "{Spouse_name} bought {x_a} at the market in {hometown} once."),
-    ("*", "There {x_was} {x_one} just like {x_that} at {workplace} when I was {job}."),
+    (DURABLE, "There {x_was} {x_one} just like {x_that} at {workplace} when I was {job}."),
     ("crockery cookware food cutlery", "{Colleague} at {workplace} always had {x_a} on the go."),
     ("keepsake textile sport", "{Grandchild_name} used to hide {x_the} when {grandchild_he} was tiny."),
     ("sport", "{Child_name} broke a pane with {x_a} once, playing in the yard."),
-    ("produce", "We grew our own, you know, {x_the} and all, on the allotment in {hometown}."),
+    ("produce", "We grew our own on the allotment in {hometown}, you know, {x_name} and all."),
     ("food", "My mother sent me to the shop for {x_a} every Saturday."),
-    ("food", "At {holiday} we lived on {x_the} and chips."),
+    ("food", "At {holiday} we had {x_a} with every meal, near enough."),
     ("seat", "{Spouse_name} fell asleep in {x_one} like {x_that} every evening.", "", False),
     ("seat", "{Spouse_name} used to fall asleep in {x_that} every evening.", "", True),
     ("table storage", "{Spouse_name} made {x_one} just like {x_that} in the shed, you know."),
@@ -478,19 +491,19 @@ MEMORY = frames(
     ("gadget", "{Child_name} showed me how {x_the} works three times, bless {child_him}."),
     ("pocket", "I left {x_a} on the bus once, and {spouse_name} went all the way to the depot."),
     ("reading", "{Friend_name} and I used to swap {x_the} over the fence."),
-    ("textile", "My mother made {x_one} like {x_that} out of an old dress."),
-    ("textile", "At {holiday} the landlady counted {x_the} every morning."),
+    ("textile", "My mother made {x_one} like {x_that} herself, on her old machine."),
+    ("textile", "At {holiday} the landlady kept a close eye on {x_the}, and on us."),
     ("cleaning", "{Spouse_name} bought {x_a} from a man at the door once, and we never used {x_it}."),
     ("plant", "{Spouse_name} talked to {x_the} every morning, I'm sure of it.", "", False),
     ("plant", "My father won a prize in {hometown} for {x_one} like {x_that}."),
-    ("bottle", "We opened {x_one} like {x_that} the night {grandchild_name} was born."),
+    ("bottle", "My mother kept {x_one} just like {x_that} by her back door."),
     ("keepsake", "{X_the} came all the way from {holiday} on my lap."),
     ("crockery", "{Child2_name} broke {x_one} just like {x_that} on {child2_his} fifth birthday."),
     ("cookware cutlery", "{X_the} {x_was} my mother's, and her mother's before that."),
     ("storage", "We kept our ration coupons in {x_one} like {x_that}."),
     ("appliance", "Our first {x_name} came from the shop on {street}, and it lasted twenty years."),
-    ("*", "{Pet} used to sleep right next to {x_the}."),
-    ("*", "{Friend_name} always said {x_the} {x_was} too good for us."),
+    (FURNITURE + " fixture textile", "{Pet} used to sleep right next to {x_the}."),
+    (DURABLE, "{Friend_name} always said {x_the} {x_was} too good for us."),
     ("gadget pocket", "{Colleague} at {workplace} had {x_a} before anyone else."),
     ("seat table", "We bought {x_one} like {x_that} with the money from {workplace}."),
     ("lamp picture", "{X_the} {x_was} in the front room on {street} for years."),
@@ -682,7 +695,6 @@ RESUMPTIONS = (
     "So, as I was saying, ",
     "Never mind, ",
     "Where was I, ",
-    "Oh, yes, so, ",
     "Anyhow, ",
 )
 RESTATEMENTS = (
@@ -695,7 +707,7 @@ RESTATEMENTS = (
     "As I said, {restate}",
     "Back to it, {restate}",
     "I was saying, {restate}",
-    "Yes, yes, {restate}",
+    "Yes, that's right, {restate}",
 )
 # Naming the target once in the clean control when the seed does not (see rules_v3.conversationalize).
 UNNAMED_TARGET = ("It's the {name} I'm after.", "The {name} is what I'm after.", "I'm after the {name}.")

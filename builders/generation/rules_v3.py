@@ -53,6 +53,35 @@ def _article(word: str) -> str:
     return "an" if word[:1].lower() in "aeiou" else "a"
 
 
+# First words a lead-in ("Oh, ", "You know, ") may lowercase; anything else (a name, a title such as "Mrs",
+# "I", "Christmas") keeps its capital.
+_LOWERABLE = frozenset(
+    ("the", "my", "we", "we've", "we'd", "our", "there", "that", "those", "this", "these", "some", "a", "an", "it",
+     "it's", "at", "funny", "years", "all", "goodness", "such", "never", "still", "time", "anyway", "oh", "ah", "so",
+     "yes", "now", "right", "well")
+)  # fmt: skip
+
+
+# Words that open or resume a sentence; one utterance says each at most once at a sentence's start or in a
+# lead-in ("Right, yes, ... Sorry, yes, ..." reads as a loop of the generator).
+_LEAD_WORDS = frozenset(
+    ("oh", "yes", "so", "now", "right", "anyway", "anyhow", "sorry", "ah", "well", "goodness", "hmm", "um", "er", "no",
+     "wait")
+)  # fmt: skip
+
+
+def _lead_words(text: str) -> set[str]:
+    """The lead words and short lead-ins said in `text`'s comma-delimited chunks ("Oh, dear me," -> oh, dear me)."""
+    chunks = [c.strip() for c in re.split(r"[,.?!]", text.lower()) if 0 < len(c.split()) <= 2]
+    return {w for chunk in chunks for w in re.findall(r"[\w']+", chunk)} & _LEAD_WORDS | set(chunks)
+
+
+def _after_lead(text: str) -> str:
+    """`text` as it reads after a lead-in: its first letter lowercased only when the first word is a common word."""
+    first = re.split(r"[\s,.?!]", text, maxsplit=1)[0]
+    return text[:1].lower() + text[1:] if first.lower() in _LOWERABLE else text
+
+
 def unnamed_target_tasks(tasks: Sequence[Task]) -> list[str]:
     """Ids of the tasks whose seed names no target (the clean control then names it once)."""
     return [t.task_id for t in tasks if "target" not in task_terms(t).seed_roles]
@@ -165,7 +194,8 @@ class RulesV3Generator:
     # --- step 1 --------------------------------------------------------------------------------------------------
     def conversationalize(self, task: Task, rng: random.Random) -> str:
         """rules-v2's clean control; a seed without its target gets one sentence naming it."""
-        text = self._v2.conversationalize(task, rng)
+        # a seed's doubled word ("put a a warm plate") is a typo the speaker would not say
+        text = re.sub(r"\b(a|an|the) \1\b", r"\1", self._v2.conversationalize(task, rng), flags=re.IGNORECASE)
         terms = task_terms(task)
         if "target" in terms.seed_roles:
             return text
@@ -246,7 +276,7 @@ class RulesV3Generator:
         vague = self._with_head(replace(np, det="that" if np.det.lower() == "the" and not keep else np.det), vague_word,
                                 plural=np.plural)  # fmt: skip
         name = np.name
-        fmt = {**fields, "name": name, "Name": _cap(name)}
+        fmt = {**fields, "name": name, "Name": _cap(name), "name_is": "are" if np.plural else "is"}
         if level == 1:
             hesitation = (
                 f"{rng.choice(V.HESITATIONS)}, "
@@ -290,7 +320,9 @@ class RulesV3Generator:
         search: list[str] = []
         for _ in range(draw(rng, "referential_imprecision", 3, "word-search sentences")):
             if not search or rng.random() < 0.5:
-                search.append(f"{rng.choice(V.SEARCH_LEADS)}, {rng.choice(V.SEARCHES)}.")
+                said = _lead_words(" ".join(search))
+                lead = rng.choice([x for x in V.SEARCH_LEADS if not _lead_words(x) & said] or V.SEARCH_LEADS)
+                search.append(f"{lead}, {rng.choice(V.SEARCHES)}.")
             else:
                 search.append(rng.choice(V.SEARCH_SENTENCES).format(**fmt))
         naming = rng.choice(V.FINAL_NAMINGS).format(**fmt)
@@ -317,7 +349,15 @@ class RulesV3Generator:
         first, second = noun(comps[0]), noun(comps[-1])
         wrong = self._with_head(np, first.name + np.post, plural=first.plural, mass=first.mass)
         name = np.name
-        fmt = {**self._fields(who), "name": name, "Name": _cap(name), "comp": first.the, "comp2": second.the}
+        fmt = {
+            **self._fields(who),
+            "name": name,
+            "Name": _cap(name),
+            "name_is": "are" if np.plural else "is",
+            "comp": first.the,
+            "comp_was": first.was,
+            "comp2": second.the,
+        }
         if level == 1:
             cue = rng.choice(V.REPAIR_CUES)
             filler = rng.choice(V.REPAIR_FILLERS)
@@ -343,7 +383,10 @@ class RulesV3Generator:
                         tag = f", {name}"
                     later.append(_cap(lead + core + (tag if tag.strip(", ") not in core else "")) + ".")
                 else:
-                    later.append(rng.choice((f"{_cap(name)}.", f"Yes, {name}.", f"{_cap(name)}, {name}.")))
+                    said = " ".join(later)
+                    ends = [f"{_cap(name)}.", f"{_cap(name)}, {name}."] + ([] if "yes" in _lead_words(said) else
+                                                                         [f"Yes, {name}."])  # fmt: skip
+                    later.append(rng.choice(ends))
             return parts.join(**changed, later=later)
         slip = rng.choice(V.SECOND_SLIPS).format(**fmt)
         changed = self._replace(parts, segment, np, f"{wrong}, {slip},")
@@ -351,19 +394,40 @@ class RulesV3Generator:
         final = _cap(rng.choice(V.FINAL_LEADS) + core + ("" if core.endswith(name) else f", {name}")) + "."
         later = [final]
         if draw(rng, "object_substitution", 3, "correction sentences") == 2:
+            remarks = [r for r in V.SLIP_REMARKS if not _lead_words(r) & _lead_words(final)] or list(V.SLIP_REMARKS)
             later.append(
-                rng.choice((f"Yes, {name}.", f"{_cap(name)}, that's it.", rng.choice(V.SLIP_REMARKS).format(**fmt)))
+                rng.choice(
+                    ([] if "yes" in _lead_words(final) else [f"Yes, {name}."])
+                    + [f"{_cap(name)}, that's it.", rng.choice(remarks).format(**fmt)]
+                )
             )
         return parts.join(**changed, later=later)
 
     # --- Empty Speech ---------------------------------------------------------------------------------------------
-    def _empty_sentence(self, rng: random.Random, used: set[str], plain: bool) -> str:
-        lead = rng.choice([x for x in V.EMPTY_LEADS if x.lower() not in used])
-        used.add(lead.lower())
-        core = rng.choice(V.EMPTY_CORES_PLAIN if plain else V.EMPTY_CORES)
-        sentence = f"{lead}, {core}{rng.choice(V.EMPTY_TAGS)}."
+    @staticmethod
+    def _fresh(options: Sequence[str], said: set[str]) -> list[str]:
+        """The options sharing no filler word with what the utterance already said ("well, ... oh well" reads as
+        a stutter of the generator, not of the speaker); all of them when none is fresh."""
+
+        def overlaps(option: str) -> bool:  # one contains the other, word for word ("well" in "oh well")
+            said_words = (u for u in said if u)
+            return any(re.search(rf"\b{re.escape(u)}\b", option) or re.search(rf"\b{re.escape(option)}\b", u)
+                       for u in said_words)  # fmt: skip
+
+        fresh = [o for o in options if o.strip(", ") and not overlaps(o.strip(", ").lower())]
+        return fresh or list(options)
+
+    def _empty_sentence(self, rng: random.Random, said: set[str], plain: bool) -> str:
+        lead = rng.choice(self._fresh(V.EMPTY_LEADS, said))
+        said.add(lead.lower())
+        core = rng.choice(self._fresh(V.EMPTY_CORES_PLAIN if plain else V.EMPTY_CORES, said))
+        said.add(core.lower())
+        tag = rng.choice(["", *self._fresh(V.EMPTY_TAGS, said)])
+        sentence = f"{lead}, {core}{tag}."
         if not EMPTY_SPEECH.search(sentence):  # every empty sentence holds a cue the verifier knows
-            sentence = f"{lead}, {core}, {rng.choice(V.EMPTY_TAIL_CUES)}."
+            tag = f", {rng.choice(self._fresh(V.EMPTY_TAIL_CUES, said))}"
+            sentence = f"{lead}, {core}{tag}."
+        said.add(tag.strip(", ").lower())
         return sentence
 
     def empty_speech(self, task: Task, parts: _Parts, level: int, rng: random.Random, who: Persona) -> str:
@@ -373,14 +437,18 @@ class RulesV3Generator:
         points = RulesGenerator._insertion_points(task, body)
         inside = draw(rng, "empty_speech", level, "fillers inside the request")
         # mostly discourse markers, sometimes a stock phrase (the paper's empty speech is marker-heavy)
+        said: set[str] = set()  # no filler word twice in one utterance
         fillers: list[str] = []
-        while len(fillers) < inside:  # no filler twice in one utterance
-            pick = rng.choice(V.MARKERS if rng.random() < 0.75 else V.FILLERS)
-            fillers += [pick] if pick not in fillers else []
+        while len(fillers) < inside:
+            pick = rng.choice(self._fresh(V.MARKERS if rng.random() < 0.75 else V.FILLERS, said))
+            if pick not in fillers:
+                fillers.append(pick)
+                said.add(pick.lower())
         clusters = []
         for filler in fillers:
             if rng.random() < {1: 0.5, 2: 0.35, 3: 0.3}[level]:
-                partner = rng.choice([p for p in V.FILLER_PARTNERS if p != filler])
+                partner = rng.choice(self._fresh([p for p in V.FILLER_PARTNERS if p != filler], said))
+                said.add(partner.lower())
                 filler = f"{partner}, {filler}" if rng.random() < 0.5 else f"{filler}, {partner}"
             clusters.append(filler)
         # distinct boundaries while there are enough, so no more than three fillers stand in a row
@@ -401,27 +469,35 @@ class RulesV3Generator:
                 if all(len(c.split(", ")) == 1 for c in words):
                     break
             body = RulesGenerator._insert(body, at, ", ".join(words))
-        used: set[str] = set()
         count = draw(rng, "empty_speech", level, "empty sentences")
-        sentences = [self._empty_sentence(rng, used, level == 3 and rng.random() < 0.7) for _ in range(count)]
+        sentences = [self._empty_sentence(rng, said, level == 3 and rng.random() < 0.7) for _ in range(count)]
         before: list[str] = []
         if level == 3 and sentences and chance(rng, "empty_speech", 3, "an empty sentence before the request"):
             before = [sentences.pop(0)]
         opener = level == 1 and not sentences and rng.random() < 0.4
         text = parts.join(body=body, before=before, after=sentences)
         if opener:  # a discourse marker opens the utterance
-            lead = rng.choice(("Well", "Oh", "Um", "So", "Right"))
+            lead = rng.choice(self._fresh(("Well", "Oh", "Um", "So", "Right"), said))
             first = text.split(" ", 1)[0]
             text = f"{lead}, {text if first in {'I', 'I’d'} or first.isupper() else text[:1].lower() + text[1:]}"
         return text
 
     # --- Topic Drift ----------------------------------------------------------------------------------------------
     def _frame(
-        self, rng: random.Random, bank: Sequence[V.Frame], pool: list[str], who: Persona, task_objects: list[str]
+        self,
+        rng: random.Random,
+        bank: Sequence[V.Frame],
+        pool: list[str],
+        who: Persona,
+        task_objects: list[str],
+        spent: set[str] | None = None,
     ) -> tuple[str, str] | None:
-        """(sentence, scene object) from the first frame (in a random order) that some pool object fits."""
+        """(sentence, scene object) from the first frame (in a random order) that some pool object fits; a frame in
+        `spent` (said already in this utterance: "Betty always wanted the plate ... Betty always wanted the
+        painting") is skipped, and the chosen one is added to it."""
+        spent = set() if spent is None else spent
         for frame in rng.sample(list(bank), len(bank)):
-            if frame.late is not None and frame.late != who.late_spouse:
+            if (frame.late is not None and frame.late != who.late_spouse) or frame.text in spent:
                 continue
             fits = [c for c in pool if "*" in frame.x or kinds_of(c) & frame.x]
             if not fits:
@@ -432,6 +508,7 @@ class RulesV3Generator:
                 if not tied:
                     continue
                 objects["t"] = noun(rng.choice(tied))
+            spent.add(frame.text)
             return _cap(frame.text.format(**self._fields(who, **objects))), fits[0]
         return None
 
@@ -441,14 +518,19 @@ class RulesV3Generator:
         rng.shuffle(pool)
         terms = task_terms(task)
         named = [kind for role, kind in terms.role_types.items() if role in terms.seed_roles or role == "target"]
-        task_objects = sorted({k for k in named if kinds_of(k)})
+        # never the destination: "the toilet right by the tissue box" muddles where the thing is to go
+        destination = task.pddl_params.parent_target
+        task_objects = sorted({k for k in named if kinds_of(k) and k != destination})
         count = draw(rng, "topic_drift", level, "drift sentences")
         objects = draw(rng, "topic_drift", level, "scene objects")
         texts: list[str] = []
         tied = chance(rng, "topic_drift", level, "the remark ties a task object to a scene object")
         stages = [V.NEAR_TIED if tied and task_objects else V.NEAR] + [V.MEMORY] * (objects - 1)
+        spent: set[str] = set()
         for bank in stages:
-            found = self._frame(rng, bank, pool, who, task_objects) or self._frame(rng, V.NEAR, pool, who, [])
+            found = self._frame(rng, bank, pool, who, task_objects, spent) or self._frame(
+                rng, V.NEAR, pool, who, [], spent
+            )
             if found is None:
                 break
             sentence, used = found
@@ -472,17 +554,24 @@ class RulesV3Generator:
             if ("," in text and len(opener.split()) <= 2) or rng.random() < 0.6 or not leads:
                 out.append(text)
                 continue
+            said = " ".join([*out, *texts]).lower()
             lead = leads.pop()
-            keep = text.split(" ", 1)[0] in {"I", "I'm", "I've"} or (
-                text[:1].isupper() and text.split(" ", 1)[0] in fields.values()
-            )
-            out.append(_cap(lead + (text if keep else text[:1].lower() + text[1:])))
+            # "You know, ..., you know": the lead would be said twice
+            if re.search(rf"\b{re.escape(lead.strip(', ').lower())}\b", said):
+                out.append(text)
+                continue
+            out.append(_cap(lead + _after_lead(text)))
+        # a tag said once: "made one in the shed, you know. I was a librarian for years, you know."
+        tagged = [i for i, t in enumerate(out) if re.search(r", you know(?=[.,])", t)]
+        for i in tagged[1:]:
+            out[i] = re.sub(r", you know(?=[.,])", "", out[i])
         return parts.join(after=out)
 
     # --- Intrusion ------------------------------------------------------------------------------------------------
     def _resumption(self, rng: random.Random, before: str) -> str:
-        used = set(openers(f"{before} x"))
-        return rng.choice([r for r in V.RESUMPTIONS if (openers(f"{r}x") or [""])[0] not in used])
+        used, said = set(openers(f"{before} x")), _lead_words(before)
+        fits = [r for r in V.RESUMPTIONS if (openers(f"{r}x") or [""])[0] not in used]
+        return rng.choice([r for r in fits if not _lead_words(r) & said] or fits)
 
     def intrusion(self, task: Task, parts: _Parts, level: int, rng: random.Random, who: Persona) -> str:
         """L1 a short off-task thought mid-request; L2 a longer one; L3 fragments, a restatement, a second thought."""
@@ -491,9 +580,14 @@ class RulesV3Generator:
         points = RulesGenerator._insertion_points(task, body)
         span = Context(task, CLEAN, 0, body).request_span
         start = span[0] if span else 0
-        # not straight after the first word ("examine. Rain again."), unless there is no other boundary
+        # never between a verb and its object ("while holding, oh, ... a book"): right after a task object's
+        # name, else (no boundary follows one) not straight after the first word
+        ends = {m.end for kind in task_terms(task).task_types for m in mentions_of(body, kind)}
+        after_object = [p for p in points if any(0 <= p - e <= 2 for e in ends)]
+        # no boundary follows an object inside the request: right after the last object, when words follow it
+        last_object = [e for e in sorted(ends) if e > start and body[e:].strip(" ,")][-1:]
         later_points = [p for p in points if len(body[start:p].split()) >= 2]
-        at = rng.choice(later_points or points)
+        at = rng.choice(after_object or last_object or later_points or points)
         head, rest = body[:at].rstrip().rstrip(","), body[at:]
 
         def thought() -> str:
@@ -506,13 +600,13 @@ class RulesV3Generator:
             name = "intrusion sentences"
             count = draw(rng, "intrusion", level, name)
             first = thought()
-            follows: list[str] = []
-            while len(follows) < count - 1:
-                follows.append(follow(follows))
             comma = chance(
                 rng, "intrusion", level, "the intrusion is cut in with a comma (else an ellipsis, a sentence more)"
             )
             opener = rng.choice(("", "oh, ", "oh, ", "hang on, ", "ooh, ")) if comma else ""
+            follows: list[str] = []
+            while len(follows) < count - 1:  # a follow-up never repeats the opener's "oh"
+                follows.append(follow([*follows, *(f for f in V.FOLLOWS if _lead_words(f) & _lead_words(opener))]))
             cut = f"{head}, {opener}{first}" if comma else f"{head}... {_cap(first)}"
             said = " ".join([cut, *follows])
             return parts.join(body=f"{said} {self._resumption(rng, said)}{rest.lstrip(' ,')}")
@@ -526,10 +620,13 @@ class RulesV3Generator:
                 break
         restated = body[start:at].strip().rstrip(",")
         restated = restated if restated.split(" ", 1)[0].isupper() else restated[:1].lower() + restated[1:]
-        restate = rng.choice(V.RESTATEMENTS).format(restate=restated)
+        fragment_leads = _lead_words(" ".join(fragments))
+        restate = rng.choice(
+            [r for r in V.RESTATEMENTS if not _lead_words(r) & fragment_leads] or V.RESTATEMENTS
+        ).format(restate=restated)
         second = [thought()]
         if draw(rng, "intrusion", 3, "sentences in the second intrusion") == 2:
             second.append(follow())
         said = " ".join([f"{restate}, {second[0]}", *second[1:]])
-        resume = self._resumption(rng, said)
+        resume = self._resumption(rng, " ".join([*fragments, said]))
         return parts.join(body=f"{head}. {' '.join(fragments)} {said} {resume}{rest.lstrip(' ,')}")

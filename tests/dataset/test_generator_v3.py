@@ -265,3 +265,141 @@ def test_the_fluency_model_is_never_the_ranking_model() -> None:
     assert load_ranker(None) is None and load_ranker("none") is None
     with pytest.raises(ValueError, match="reserved for the independent fluency measure"):
         load_ranker("smollm2-135m")
+
+
+# --- issue 19 quality pass: one regression test per class of error found by reading the 300-task build -----------
+_LEADS = {
+    w.strip(", ").lower()
+    for w in (*V.FILLERS, *V.MARKERS, *V.FILLER_PARTNERS, *V.HESITATIONS, *V.EMPTY_LEADS, *V.SEARCH_LEADS)
+} | {"well", "oh", "so", "yes", "now", "right", "anyway", "goodness", "dear me"}
+
+
+def _chunks(text: str) -> list[str]:
+    return [c.strip().lower() for c in re.split(r"[,.?!]", text) if c.strip()]
+
+
+def test_no_filler_or_lead_in_is_said_twice(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
+    """ "well, well, er, ... well", "Right, yes, ... Sorry, yes", "Goodness, ... Goodness, my head today"."""
+    for row in _variants(v3_rows):
+        said = [c for c in _chunks(row["instruction"]) if c in _LEADS]
+        clean = _chunks(row["clean_instruction"])
+        # "no, no" and "sorry, no" are Object Substitution's repair cues (the paper's repetition), not fillers
+        cues = {"no", "sorry"} if row["pattern"] == "object_substitution" else set()
+        twice = {c for c in said if said.count(c) > max(1, clean.count(c)) and c not in cues}
+        assert not twice, (twice, row["instruction"])
+        # a lead-in phrase that holds the same word twice over ("Where was I, oh yes, ... oh, it doesn't matter")
+        assert not re.search(r"(?:^|[.?!] )(\w+), [^.?!]*[.?!] \1, ", row["instruction"], re.IGNORECASE) or (
+            row["pattern"] == "object_substitution"
+        ), row["instruction"]
+
+
+def test_no_stacked_lead_ins(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
+    """ "Oh, yes, so, on the counter": three resumption words in a row."""
+    words = "oh|yes|so|now|right|anyway|anyhow|well|sorry"
+    for row in _variants(v3_rows):
+        assert not re.search(rf"\b(?:{words}), (?:{words}), (?:{words}),", row["instruction"], re.IGNORECASE), row
+
+
+def test_names_and_titles_keep_their_capitals(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
+    """ "Oh, mrs Kowalski ...": a lead-in never lowercases a name or a title."""
+    for task_id, rows in v3_rows.items():
+        who = persona_for(task_id)
+        names = {n for n in who.names() if n[:1].isupper()} | {"Mrs", "Mr", "Dr"}
+        for row in rows:
+            for name in names:
+                low = name[:1].lower() + name[1:]
+                if low == name.lower() and re.search(rf"(?<![\w']){re.escape(low)}(?![\w'])", row["clean_instruction"]):
+                    continue
+                assert not re.search(rf"(?<![\w']){re.escape(low)}\b", row["instruction"]), (name, row["instruction"])
+
+
+def test_no_word_or_article_doubled(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
+    """ "put a a warm plate" (a seed's typo, kept by rules-v2's clean control) and "the the"."""
+    for rows in v3_rows.values():
+        for row in rows:
+            assert not re.search(r"\b(\w+) \1\b", row["instruction"], re.IGNORECASE), row["instruction"]
+
+
+def test_verbs_agree_with_plural_names(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
+    """ "No, the keys was wrong": every plural name takes are/were/have, and no "a keys"."""
+    plurals = {noun(t).name for t in OBJECT_KINDS if noun(t).plural}
+    for row in _variants(v3_rows):
+        for name in plurals:
+            assert not re.search(rf"\b{name} (?:is|was|has)\b", row["instruction"]), row["instruction"]
+            assert not re.search(rf"\b(?:a|an|that|this|one) {name}\b", row["instruction"]), row["instruction"]
+    # the cores that put a verb after a name declare its agreement
+    for core in (*V.CORRECTION_CORES, *V.NAME_CORES):
+        assert not re.search(r"\{(?:name|comp)\} (?:is|was)\b", core), core
+
+
+_SPATIAL = re.compile(r"\bkept\b|\bnext to\b|\bbetween\b|\bright by\b|\bside by side\b|\bover by\b|\bright where\b")
+
+
+def test_frames_that_place_things_take_no_fixture_or_food() -> None:
+    """ "Eric always kept the toilet right by the tissue box", "my mother kept a box by a credit card"."""
+    for bank in (V.NEAR, V.NEAR_TIED, V.MEMORY):
+        for frame in bank:
+            if not _SPATIAL.search(frame.text):
+                continue
+            for slot in (frame.x, frame.t):
+                assert "*" not in slot or (slot is frame.x and "{x_" not in frame.text), frame.text
+                assert not slot & {"fixture", "food"} or "{Pet}" in frame.text, frame.text
+
+
+def test_drift_never_names_the_destination_in_a_frame(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
+    """The task's destination ("the toilet", "the shelf") is never a frame's object: it is where the thing goes."""
+    for row in _variants(v3_rows):
+        if row["pattern"] != "topic_drift" or not row["pddl_params"]["parent_target"]:
+            continue
+        destination = row["pddl_params"]["parent_target"]
+        for sentence in added_sentences(row["instruction"], row["clean_instruction"]):
+            assert not any(destination in m.types for m in find_mentions(sentence)), (destination, sentence)
+
+
+def test_intrusions_do_not_cut_between_a_verb_and_its_object(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
+    """ "turn on a lamp while holding, oh, what day is it? Anyhow, a book": the cut follows an object's name."""
+    from builders.task_terms import task_terms
+
+    tasks = {t.task_id: t for t in load_tasks("benchmark")}
+    cut_after_object = total = 0
+    for row in _variants(v3_rows):
+        if row["pattern"] != "intrusion":
+            continue
+        text, clean = row["instruction"], row["clean_instruction"]
+        at = next((i for i, (a, b) in enumerate(zip(text, clean, strict=False)) if a != b), len(clean))
+        head = clean[:at].rstrip(" ,.")
+        ends = {m.end for k in task_terms(tasks[row["task_id"]]).task_types for m in find_mentions(clean)
+                if k in m.types}  # fmt: skip
+        total += 1
+        cut_after_object += any(abs(len(head) - e) <= 1 for e in ends) or not ends
+    # the rest are requests whose only object is their last word ("rinse and heat an apple")
+    assert cut_after_object >= 0.95 * total, (cut_after_object, total)
+
+
+def test_descriptions_fit_every_object_of_their_kind() -> None:
+    """RI Level 3 describes by look, place or owner in words that fit every type of the kind ("the one with the
+    spout" for a house plant, "the little one that beeps" for a CD, "the old one of David" did not)."""
+    who = persona_for("trial_T20190907_215139_316260")
+    fields = RulesV3Generator._fields(who)
+    for kind, bank in V.DESCRIPTIONS.items():
+        assert kind in KINDS
+        for text in bank:
+            said = text.format(**fields)
+            assert not re.search(r"\bone of [A-Z]", said), said  # "the old one of David": a possessive
+            assert not re.search(r"\b(?:spout|beeps?|buttons|round|hums)\b", said), said
+
+
+def test_no_drift_frame_twice_in_one_utterance(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
+    """ "Betty always wanted the plate, and never got it. Mind you, Betty always wanted the painting, ..."."""
+    leads = tuple(V.DRIFT_LEADS)
+    for row in _variants(v3_rows):
+        if row["pattern"] != "topic_drift":
+            continue
+        masked = []
+        for sentence in added_sentences(row["instruction"], row["clean_instruction"]):
+            for lead in leads:
+                sentence = sentence[len(lead) :] if sentence.startswith(lead) else sentence
+            for mention in reversed(find_mentions(sentence)):
+                sentence = sentence[: mention.start] + "<obj>" + sentence[mention.end :]
+            masked.append(sentence.lower())
+        assert len(masked) == len(set(masked)), row["instruction"]
