@@ -284,6 +284,35 @@ def render_card(stats: dict[str, Any], folder: Path) -> str:
         definitions=_definitions(),
         memory_bank=memory_bank_section(folder),
         sample_page=_sample_page(folder),
+        prompt_version=f"`{info.get('prompt_version', '')}`",
+        candidates=_candidates_text(info, counts["instructions"] + counts["memory_items"]),
+    )
+
+
+# Measured on this project's 2-core machines (ranking step of issue 19): 0.82 s per candidate, one thread.
+_RANK_SECONDS_PER_CANDIDATE = 0.82
+
+
+def _candidates_text(info: dict[str, Any], requests: int) -> str:
+    """How the kept utterance was chosen among the drawn candidates, from the build's own settings."""
+    count = int(info.get("candidates") or 1)
+    model = info.get("rank_model")
+    if count <= 1:
+        return "Each request draws one utterance; a failing one is regenerated (below)."
+    if model:
+        return (
+            f"Each request draws {count} candidates (each with its own seed); the ones that pass verification are "
+            f"ranked by `{model}`'s mean log-probability per token and the best is kept, its score in "
+            "`ranking.score`."
+        )
+    hours = requests * count * _RANK_SECONDS_PER_CANDIDATE / 3600
+    return (
+        f"Each request draws {count} candidates (each with its own seed) and keeps the first that passes "
+        "verification. **This build is not ranked:** ranking the verified candidates by a language model's mean "
+        "log-probability per token (`talkdem build --rank-model qwen2.5-coder-0.5b`; the row's `ranking` field "
+        f"then holds the score) is implemented, but costs about {_RANK_SECONDS_PER_CANDIDATE} s per candidate "
+        f"on one CPU thread, about {hours:.1f} hours for the {requests * count:,} candidates of this build, "
+        "and has not been run; `ranking.score` is null in every row."
     )
 
 
@@ -357,7 +386,9 @@ clean control it was transformed from), `seed_instruction` (the ALFRED annotatio
 (`object_target`, `parent_target`, `mrecep_target`, `toggle_target`, `object_sliced`; a parameter the task
 type does not use is null), `floor_plan`, `scene_objects` (object types present in the AI2-THOR scene),
 `verification` (`passed`, `failed_checks`, `attempts`), `generator`, `prompt_version`, `seed` (the
-per-request seed, `derive_seed(build_seed, task_id, pattern, level, attempt)`).
+per-request seed, `derive_seed(build_seed, task_id, pattern, level, attempt)`, or the kept candidate's own seed
+derived from it), `ranking` (`score`: the ranking model's mean log-probability per token, null when the build
+is not ranked; `model`; `candidates` drawn; `passed` verification).
 
 `memory_bank` rows have the same fields plus `interpretation` (one sentence from the gold task specification)
 and `reference_plan` (the skill sequence that solves the task). `tasks` rows: `task_id`, `task_set`,
@@ -384,11 +415,41 @@ embeddings within each type (see `selection/diversity.md`).
 
 Step 1 conversationalizes each seed instruction into a clean control: a greeting and a request frame around
 the seed's own task wording, which is kept verbatim (object names, action words, destinations, state
-words). Step 2 transforms the clean control with each pattern at each level. Competing and associated objects
-are drawn from the task's own scene list and named by their lexical aliases, so no utterance refers to an object
-absent from the execution environment. The rules generator varies greetings, request frames, closings, vague
-expressions, corrections, fillers, digressions, interruptions and where each cue is placed, with a seed per
-request: the same build seed gives byte-identical files.
+words). Three seeds do not name their target object (trial_T20190907_215139_316260,
+trial_T20190909_005222_878222, trial_T20190911_120324_851568): their clean control adds one plain sentence
+naming it ("I'm after the toilet paper."), so that no variant names an object its clean control does not.
+
+Step 2 transforms the clean control with each pattern at each level ({prompt_version}):
+
+- **One speaker per task.** Each task draws a persona by its id (spouse, children, grandchild, sibling, friend,
+  former job and a colleague, home town, holiday place, habit, pet, street; 8 to 23 entries per part), so the
+  memories and intrusions of its 16 instructions belong to one person and the 300 tasks do not share one biography.
+- **Form drawn per utterance** from ranges per level (the table above): the number of sentences, where the
+  vague reference or the correction sits, where an intrusion cuts in, how many fillers. No cell has one sentence
+  count for all its rows.
+- **Typed fills.** Every memory or association frame declares the kinds of object it can take (food, crockery,
+  furniture, keepsake, appliance, textile, ...) from a typed lexicon of the AI2-THOR object types, with each
+  name's inflection (a/an/some, is/are, it/them), so a frame never takes an object it makes no sense with.
+- **Nothing added asks for anything**, names another task's action, or names an object the clean control does
+  not; a correction or the late name comes before the closing thanks. Competing and associated objects come
+  from the task's own scene list, so no utterance refers to an object absent from the execution environment.
+
+{candidates}
+
+The same build seed gives byte-identical files. The previous phrase banks (`rules-v2`) stay loadable by name
+(`talkdem build --generator rules-v2`); what changed and why is below.
+
+#### What changed from `rules-v2`, and why
+
+`rules-v2` (the build behind every run committed before this one) filled a fixed template per cell: every Topic
+Drift row had 2, 3 or 5 sentences at Levels 1-3 and every Empty Speech row 1, 2 or 3; with object names masked, the
+ten most frequent added sentences made up 67% of Referential Imprecision Level 2 ("The <obj>, I meant the <obj>.");
+one stock persona (an aunt, the vicar, jumble sales) spoke in all 300 tasks and frames took any object ("the
+grandchildren used to hide behind the butter knife"); 347 of the 900 Topic Drift rows added a second request
+("somebody ought to dust the statue"); the variants of three seeds that do not name their target named it for them;
+and its validation counted the generator's own cue lists. `rules-v3` draws the form, the speaker and typed fills as
+above, and is validated by a separate module that shares no word list with the generator (below, "Independent
+validation"). The memory bank was re-selected so that it shares no ALFRED task with the benchmark (above).
 
 ### Verification
 
@@ -421,14 +482,13 @@ now one sentence, greeting and thanks inside it, with no discourse marker, and h
 person (the paper's clean pronoun share is 0.209).
 
 **What differs from the paper's data.** The paper's instructions were written by an LLM from its prompts; ours
-by the deterministic `rules` generator from phrase banks, calibrated pattern by pattern and level by level so
-that each pattern's own markers land near the paper's (below). The calibration matches means, not
-distributions: every utterance of one cell has the same structure (the same number of fillers, drift
-sentences, corrections), where an LLM varies more; the wording comes from finite banks (the variety figures
-below); the clean controls keep the seed's wording verbatim, typos included, where the paper's LLM may smooth
-it; relevance stays lower than the paper's in the clean column (greeting and frame inside the sentence) and so
-in every Topic Drift cell. The paper's DementiaBank columns (Ctrl, Dem, d, Delta W) need IRB-gated transcripts
-and are not reproduced here; `talkdem markers --chat-dir DIR` computes them from a user-supplied folder.
+by the deterministic `rules` generator from phrase banks, drawn so that each pattern's own markers land near the
+paper's (below). The wording still comes from finite banks combined by rule (the variety figures below give their
+reach, with object names masked); the clean controls keep the seed's wording verbatim, typos included, where
+the paper's LLM may smooth it; relevance stays lower than the paper's in the clean column (greeting and frame inside
+the sentence) and so in every Topic Drift cell. The paper's DementiaBank columns (Ctrl, Dem, d, Delta W) need
+IRB-gated transcripts and are not reproduced here; `talkdem markers --chat-dir DIR` computes them from a
+user-supplied folder.
 
 {markers}
 
@@ -436,9 +496,9 @@ and are not reproduced here; `talkdem markers --chat-dir DIR` computes them from
 
 - The variants are synthetic. They reproduce marker-level tendencies reported for dementia speech, not its
   distribution; the patterns are exaggerated at higher levels (more repairs and fillers than in real speech).
-- The rules generator draws from finite phrase banks: wording repeats across the 4,800 instructions more than
-  an LLM rewrite would, and planners could learn its cues. Report results per pattern and level, and prefer
-  evaluation over training on this data.
+- The rules generator draws from finite phrase banks combined by rule: wording repeats across the 4,800
+  instructions more than an LLM rewrite would, and planners could learn its cues. Report results per pattern
+  and level, and prefer evaluation over training on this data.
 - Seed instructions are ALFRED crowd annotations and keep their errors (typos, a few that do not name their
   target object); the verifier only requires what the seed itself names.
 - English only, household tasks in AI2-THOR scenes; stereotyped personal details in digressions (family,

@@ -65,10 +65,10 @@ class FluencyScorer:
                 self._cache = stored["scores"]
 
     @classmethod
-    def default(cls, cache_file: Path | None = None) -> FluencyScorer:
+    def default(cls, cache_file: Path | None = None, threads: int = 1) -> FluencyScorer:
         from talkdem.llm.registry import load_model
 
-        model = load_model("llamacpp", FLUENCY_MODEL, threads=1, n_ctx=512)
+        model = load_model("llamacpp", FLUENCY_MODEL, threads=threads, n_ctx=512)
         return cls(model, cache_file or default_cache_file(model.identity.revision))
 
     @property

@@ -127,10 +127,10 @@ def _variety(cells: Sequence[Cell]) -> dict[str, dict[str, Any]]:
     return out
 
 
-def _fluency(cells: Sequence[Cell], cache_file: Path | None) -> dict[str, Any]:
+def _fluency(cells: Sequence[Cell], cache_file: Path | None, threads: int = 1) -> dict[str, Any]:
     from builders.validation.fluency import FluencyScorer, cell_fluency, print_progress
 
-    scorer = FluencyScorer.default(cache_file)
+    scorer = FluencyScorer.default(cache_file, threads)
     texts = [r["instruction"] for c in cells for r in c.rows]
     nll = scorer.nll_per_token(texts, progress=print_progress)
     by_cell, at = {}, 0
@@ -151,6 +151,7 @@ def run_validation(
     *,
     fluency: bool = True,
     fluency_cache: Path | None = None,
+    threads: int = 1,
     log: Callable[[str], None] = _log,
 ) -> dict[str, Any]:
     """Compute everything, write `validation.json` and `validation.md` into `out` (default: `folder`)."""
@@ -182,9 +183,9 @@ def run_validation(
         "variety": _variety(cells),
     }
     if fluency:
-        log("fluency (SmolLM2-135M, 1 thread)")
+        log(f"fluency (SmolLM2-135M, {threads} thread{'s' if threads > 1 else ''})")
         started = time.monotonic()  # logged, not stored: the files must not depend on the machine
-        report["fluency"] = _fluency(cells, fluency_cache)
+        report["fluency"] = _fluency(cells, fluency_cache, threads)
         log(f"fluency: {time.monotonic() - started:.0f} s")
     target.mkdir(parents=True, exist_ok=True)
     (target / "validation.json").write_text(json.dumps(report, indent=2, sort_keys=True) + "\n")

@@ -133,12 +133,17 @@ def _print_committed_baseline() -> None:
     if not run_dirs:
         print("no committed baseline in this installation (it ships with the repository, not the wheel)")
         return
+    from talkdem.instructions import dataset_hash
+
     runs = score_runs(run_dirs, bootstrap=0)
+    current = dataset_hash()
     for run in runs:
         header = run.header
+        # The tasks and goals are the same across dataset rebuilds, the wording is not: say which one it ran on.
+        wording = "" if header.dataset_hash == current else " (an earlier build: not the instructions in data/ now)"
         print(
             f"- {run.label}: {run.coverage.describe()}; model revision {header.model.get('revision', '')[:12]}, "
-            f"code {header.code_revision[:12]}, dataset {header.dataset_hash[:12]}"
+            f"code {header.code_revision[:12]}, dataset {header.dataset_hash[:12]}{wording}"
         )
     print(success_table(runs).to_markdown())
     print(f"full report: {BASELINE / 'report' / 'report.md'}; leaderboard: {BASELINE / 'leaderboard' / 'index.html'}")

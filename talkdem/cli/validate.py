@@ -7,6 +7,8 @@ import json
 from pathlib import Path
 from typing import Any
 
+from talkdem.cli.arguments import positive_int
+
 __all__ = ["register"]
 
 
@@ -19,13 +21,18 @@ def register(subparsers: Any) -> None:
     parser.add_argument("--out", type=Path, help="where to write validation.json and validation.md (default: DIR)")
     parser.add_argument("--no-fluency", action="store_true", help="skip the fluency scores (no language model)")
     parser.add_argument("--fluency-cache", type=Path, help="score cache file (default: under the talkdem cache)")
+    parser.add_argument(
+        "--threads", type=positive_int, default=1, help="llama.cpp threads of the fluency model (default 1)"
+    )
     parser.set_defaults(handler=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from builders.validation.report import run_validation
 
-    report = run_validation(args.data, args.out, fluency=not args.no_fluency, fluency_cache=args.fluency_cache)
+    report = run_validation(
+        args.data, args.out, fluency=not args.no_fluency, fluency_cache=args.fluency_cache, threads=args.threads
+    )
     stats_file = args.data / "build_stats.json"
     if (args.out is None or args.out.resolve() == args.data.resolve()) and stats_file.is_file():
         # the card shows validation.json: refresh it as `talkdem markers` does (here, not in builders.validation,
