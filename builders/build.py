@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from builders.generation import GenerationRequest, Generator, derive_seed, get_generator
+from builders.generation.base import generate_checked
 from builders.interpretation import interpretation
 from builders.verification import verify
 from talkdem.paths import data_dir, repo_root
@@ -41,6 +42,8 @@ __all__ = [
     "BuildResult",
     "CheckpointWarning",
     "build",
+    "build_unit",
+    "build_unit_logged",
     "checkpoint_header",
     "dataset_files",
     "default_checkpoint",
@@ -118,9 +121,16 @@ def pddl_row(params: PddlParams) -> dict[str, Any]:
 
 # --- one unit ------------------------------------------------------------------------------------------------
 def _generate_verified(
-    generator: Generator, requests: list[tuple[Task, str, int, str]], base_seed: int
+    generator: Generator,
+    requests: list[tuple[Task, str, int, str]],
+    base_seed: int,
+    log: list[dict[str, Any]] | None = None,
 ) -> list[tuple[str, dict[str, Any], int]]:
-    """(text, verification, seed) per request: regenerate failures, in batches, up to MAX_ATTEMPTS."""
+    """(text, verification, seed) per request: regenerate failures, in batches, up to MAX_ATTEMPTS.
+
+    A failure the generator reports itself (an LLM's unparsable or echoed answer) fails the utterance ahead of
+    the verifier's checks. `log`, when given, receives one record per attempt (pattern, level, attempt, passed,
+    failed checks): the reasons of attempts that were regenerated, which the rows do not keep."""
     results: list[tuple[str, dict[str, Any], int] | None] = [None] * len(requests)
     pending = list(range(len(requests)))
     for attempt in range(1, MAX_ATTEMPTS + 1):
@@ -130,11 +140,26 @@ def _generate_verified(
             )
             for task, pattern, level, clean in (requests[i] for i in pending)
         ]
-        texts = generator.generate(batch)
+        outputs = generate_checked(generator, batch)
         still = []
-        for i, request, text in zip(pending, batch, texts, strict=True):
-            check = verify(request.task, request.pattern, request.level, text)
-            results[i] = (text, {**check, "attempts": attempt}, request.seed)
+        for i, request, output in zip(pending, batch, outputs, strict=True):
+            if output.utterance:
+                check = verify(request.task, request.pattern, request.level, output.text)
+            else:
+                check = {"passed": False, "failed_checks": []}
+            if output.failures:
+                check = {"passed": False, "failed_checks": [*output.failures, *check["failed_checks"]]}
+            results[i] = (output.text, {**check, "attempts": attempt}, request.seed)
+            if log is not None:
+                log.append(
+                    {
+                        "pattern": request.pattern,
+                        "level": request.level,
+                        "attempt": attempt,
+                        "passed": check["passed"],
+                        "failed_checks": list(check["failed_checks"]),
+                    }
+                )
             if not check["passed"]:
                 still.append(i)
         pending = still
@@ -148,15 +173,30 @@ def build_unit(
 ) -> list[dict[str, Any]]:
     """The 16 rows of one task: its clean control, then each pattern at levels 1-3 (`patterns` narrows
     the patterns, for a quick check of a slow generator)."""
-    ((clean, clean_check, clean_seed),) = _generate_verified(generator, [(task, CLEAN, 0, "")], base_seed)
+    return build_unit_logged(generator, task, base_seed, patterns)[0]
+
+
+def build_unit_logged(
+    generator: Generator, task: Task, base_seed: int, patterns: Sequence[str] = PATTERN_CONFIGS
+) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """`build_unit`'s rows and the unit's generation log: every attempt's outcome and, for a generator that
+    reports its usage (the LLM generator), the unit's seconds, generations and tokens."""
+    attempts: list[dict[str, Any]] = []
+    usage = getattr(generator, "usage", None)
+    before = usage() if usage is not None else None
+    ((clean, clean_check, clean_seed),) = _generate_verified(generator, [(task, CLEAN, 0, "")], base_seed, attempts)
     variants = [(task, p, lvl, clean) for p in patterns for lvl in LEVELS]
     generated = [(CLEAN, 0, clean, clean_check, clean_seed)] + [
         (p, lvl, text, check, seed)
         for (_, p, lvl, _), (text, check, seed) in zip(
-            variants, _generate_verified(generator, variants, base_seed), strict=True
+            variants, _generate_verified(generator, variants, base_seed, attempts), strict=True
         )
     ]
-    return [
+    log: dict[str, Any] = {"attempts": attempts}
+    if usage is not None and before is not None:
+        after = usage()
+        log["usage"] = {key: round(after[key] - before.get(key, 0.0), 3) for key in after}
+    rows = [
         {
             "id": f"{task.task_id}:{pattern}:{level}",
             "task_id": task.task_id,
@@ -176,6 +216,7 @@ def build_unit(
         }
         for pattern, level, text, check, seed in generated
     ]
+    return rows, log
 
 
 # --- checkpoint -------------------------------------------------------------------------------------------------
@@ -210,9 +251,12 @@ def _differences(found: dict[str, Any], wanted: dict[str, Any]) -> str:
     return ", ".join(f"{k} {found.get(k, '(not recorded)')!r} there, {wanted.get(k)!r} now" for k in keys)
 
 
-def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[str, Any]]]:
+def read_checkpoint(
+    path: Path, header: dict[str, Any], logs: dict[str, dict[str, Any]] | None = None
+) -> dict[str, list[dict[str, Any]]]:
     """Finished units by key. A truncated last line is cut off (with a warning); a file that is not this
-    build's checkpoint is refused, never deleted nor cut (it may be another build's hours of LLM generation)."""
+    build's checkpoint is refused, never deleted nor cut (it may be another build's hours of LLM generation).
+    `logs`, when given, receives each unit's generation log (units written without one have none)."""
     if path.exists() and not path.is_file():
         raise ValueError(f"{path}: the checkpoint path is not a file")
     if not path.is_file() or path.stat().st_size == 0:
@@ -254,6 +298,8 @@ def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[s
                 f"{path}, line {number}: corrupt checkpoint line ({exc}); delete the file to rebuild"
             ) from exc
         units[record["unit"]] = record["rows"]
+        if logs is not None and "log" in record:
+            logs[record["unit"]] = record["log"]
     return units
 
 
@@ -330,6 +376,7 @@ def write_dataset(
     memory: Sequence[Task],
     units: dict[str, list[dict[str, Any]]],
     build_info: dict[str, Any],
+    generation: dict[str, Any] | None = None,
 ) -> tuple[list[Path], dict[str, Any]]:
     from builders.card import write_card
 
@@ -379,6 +426,8 @@ def write_dataset(
             "memory_items": len(memory_rows),
         },
     }
+    if generation is not None:
+        stats["generation"] = generation
     written.append(_write_text(folder / "build_stats.json", json.dumps(stats, indent=2) + "\n"))
     written += write_card(folder, stats)
     return written, stats
@@ -439,7 +488,8 @@ def _build_locked(
 
     todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
     header = checkpoint_header(gen, seed, limit, benchmark, memory)
-    units = read_checkpoint(path, header)
+    logs: dict[str, dict[str, Any]] = {}
+    units = read_checkpoint(path, header, logs)
     resumed = sum(1 for key, _ in todo if key in units)
     if path.stat().st_size == 0:  # the lock created it empty
         _append(path, header)
@@ -450,15 +500,23 @@ def _build_locked(
     for key, task in todo:
         if key in units:
             continue
-        rows = build_unit(gen, task, seed)
-        _append(path, {"unit": key, "rows": rows})
-        units[key] = rows
+        rows, log = build_unit_logged(gen, task, seed)
+        _append(path, {"unit": key, "rows": rows, "log": log})
+        units[key], logs[key] = rows, log
         bar.update(1)
         if throttle:
             time.sleep(throttle)
     bar.close()
 
     build_info = {"generator": gen.name, "prompt_version": gen.prompt_version, "seed": seed}
-    files, stats = write_dataset(folder, benchmark, memory, units, build_info)
+    # Only a generator that reports its usage (the LLM generator) gets the attempt log and costs in its
+    # statistics: the rules build's files stay byte-identical whatever the machine's speed.
+    generation = None
+    if getattr(gen, "usage", None) is not None:
+        from builders.generation.llm_stats import generation_stats
+
+        keys = [f"benchmark:{t.task_id}" for t in benchmark]
+        generation = generation_stats([r for k in keys for r in units[k]], [logs[k] for k in keys if k in logs])
+    files, stats = write_dataset(folder, benchmark, memory, units, build_info, generation)
     path.unlink()
     return BuildResult(folder, tuple(files), stats, resumed)
