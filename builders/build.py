@@ -488,6 +488,9 @@ def _build_locked(
 
     todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
     header = checkpoint_header(gen, seed, limit, benchmark, memory)
+    # Only a generator that reports its usage (the LLM generator) gets the attempt log and costs in its
+    # statistics: the rules build's files stay byte-identical whatever the machine's speed.
+    logged = getattr(gen, "usage", None) is not None
     logs: dict[str, dict[str, Any]] = {}
     units = read_checkpoint(path, header, logs)
     resumed = sum(1 for key, _ in todo if key in units)
@@ -500,19 +503,22 @@ def _build_locked(
     for key, task in todo:
         if key in units:
             continue
-        rows, log = build_unit_logged(gen, task, seed)
-        _append(path, {"unit": key, "rows": rows, "log": log})
-        units[key], logs[key] = rows, log
+        if logged:
+            rows, log = build_unit_logged(gen, task, seed)
+            _append(path, {"unit": key, "rows": rows, "log": log})
+            logs[key] = log
+        else:
+            rows = build_unit(gen, task, seed)
+            _append(path, {"unit": key, "rows": rows})
+        units[key] = rows
         bar.update(1)
         if throttle:
             time.sleep(throttle)
     bar.close()
 
     build_info = {"generator": gen.name, "prompt_version": gen.prompt_version, "seed": seed}
-    # Only a generator that reports its usage (the LLM generator) gets the attempt log and costs in its
-    # statistics: the rules build's files stay byte-identical whatever the machine's speed.
     generation = None
-    if getattr(gen, "usage", None) is not None:
+    if logged:
         from builders.generation.llm_stats import generation_stats
 
         keys = [f"benchmark:{t.task_id}" for t in benchmark]

@@ -6,10 +6,10 @@ resumable, summarized for the card (`data/llm_sample/`).
     python -m builders.generation.llm_sample --out /tmp/llm-sample --summarize data/llm_sample
 
 The pick is stated, not tuned: the first `--per-type` benchmark tasks of each of the six task types, in the
-order of `tasks/benchmark.jsonl`. Each task is one unit, built as `talkdem build` builds it (its clean control
-and fifteen variants, verified, regenerated up to twice) and appended to the checkpoint with its generation
-log, so a killed run resumes where it stopped. `--summarize` writes `summary.json` and `summary.md` from
-whatever units are finished, and says how many of how many.
+order of `tasks/benchmark.jsonl`, interleaved by type. Each task is one unit, built as `talkdem build` builds
+it (its clean control and fifteen variants, verified, regenerated up to twice) and appended to the checkpoint
+with its generation log, so a killed run resumes where it stopped. `--summarize` writes `summary.json` and
+`summary.md` from whatever units are finished, and says how many of how many.
 """
 
 from __future__ import annotations
@@ -34,7 +34,9 @@ _SAMPLE_FORMAT = 1
 
 
 def pick_tasks(per_type: int, tasks: Sequence[Task] | None = None) -> list[Task]:
-    """The first `per_type` benchmark tasks of each task type, task types in order of first appearance."""
+    """The first `per_type` benchmark tasks of each task type, interleaved (the first of every type, then the
+    second of every type, ...), task types in order of first appearance: a run stopped early still covers
+    every type."""
     if per_type < 1:
         raise ValueError(f"--per-type must be a positive number of tasks, got {per_type}")
     pool = list(tasks) if tasks is not None else load_tasks(TaskSet.BENCHMARK)
@@ -43,7 +45,7 @@ def pick_tasks(per_type: int, tasks: Sequence[Task] | None = None) -> list[Task]
         chosen = picked.setdefault(task.task_type, [])
         if len(chosen) < per_type:
             chosen.append(task)
-    return [task for chosen in picked.values() for task in chosen]
+    return [chosen[i] for i in range(per_type) for chosen in picked.values() if i < len(chosen)]
 
 
 def _header(generator: LLMGenerator, tasks: Sequence[Task], seed: int) -> dict[str, Any]:
@@ -127,7 +129,7 @@ def summarize(folder: Path, target: Path, model_sha256: str = "", context: str =
     sample = {
         "tasks_done": len(done),
         "tasks_planned": len(order),
-        "rule": "the first tasks of each of the six task types, in benchmark order",
+        "rule": "the first tasks of each of the six task types in benchmark order, taken in turn by type",
         "generator": header["generator"],
         "model_sha256": model_sha256,
         "prompt_version": header["prompt_version"],
@@ -139,10 +141,11 @@ def summarize(folder: Path, target: Path, model_sha256: str = "", context: str =
         + (f" (GGUF sha256 `{model_sha256[:16]}...`)" if model_sha256 else "")
         + f", prompts `{header['prompt_version']}`."
     )
-    summary = {"sample": sample, "context": context, "stats": stats, "examples": examples(rows)}
+    shown = examples(rows)
+    summary = {"sample": sample, "context": context, "stats": stats, "examples": shown}
     target.mkdir(parents=True, exist_ok=True)
     (target / "summary.json").write_text(json.dumps(summary, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-    markdown = card_section(stats, context, summary["examples"])
+    markdown = card_section(stats, context, shown)
     (target / "summary.md").write_text(markdown + "\n", encoding="utf-8")
     return summary
 

@@ -70,7 +70,7 @@ def generation_stats(rows: Sequence[Mapping[str, Any]], logs: Iterable[Mapping[s
     for pattern in PATTERN_CONFIGS:
         these = [r for r in variants if r["pattern"] == pattern]
         if these:
-            stats = verification_stats(these)
+            stats = verification_stats(dict(r) for r in these)
             by_pattern[pattern] = {
                 key: stats[key]
                 for key in ("variants", "first_attempt_passed", "second_attempt_passed", "third_attempt_passed")
@@ -92,7 +92,7 @@ def generation_stats(rows: Sequence[Mapping[str, Any]], logs: Iterable[Mapping[s
         "prompt_version": versions,
         "output_form": sorted({v.rsplit("+", 1)[-1] for v in versions}),
         "tasks": len({r["task_id"] for r in rows}),
-        "variants": verification_stats(rows),
+        "variants": verification_stats(dict(r) for r in rows),
         "clean": verification_stats([{**r, "pattern": "x"} for r in rows if r["pattern"] == CLEAN]),
         "attempts": _attempt_table(variant_records),
         "clean_attempts": _attempt_table([a for a in records if a["pattern"] == CLEAN]),

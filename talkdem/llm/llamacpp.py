@@ -73,7 +73,7 @@ def _log_sum_exp(logits: NDArray[np.float32]) -> float:
 
 def _grammar(json_schema: str) -> Any:
     """The GBNF grammar of a JSON schema, for plain completions (chat completions build it themselves)."""
-    from llama_cpp import LlamaGrammar
+    from llama_cpp.llama_grammar import LlamaGrammar
 
     return LlamaGrammar.from_json_schema(json_schema, verbose=False)
 
