@@ -119,9 +119,16 @@ def summarize(folder: Path, target: Path, model_sha256: str = "", context: str =
     path = folder / CHECKPOINT
     if not path.is_file():
         raise FileNotFoundError(f"{path}: no sample checkpoint (run the sample first)")
-    header = json.loads(path.read_text(encoding="utf-8").splitlines()[0])
+    # Read, never repaired: the run may be appending right now, and a torn last line is its own to cut.
+    lines = path.read_bytes().split(b"\n")[:-1]
+    header = json.loads(lines[0])
+    units: dict[str, list[dict[str, Any]]] = {}
     logs: dict[str, dict[str, Any]] = {}
-    units = read_checkpoint(path, header, logs)
+    for line in lines[1:]:
+        record = json.loads(line)
+        units[record["unit"]] = record["rows"]
+        if "log" in record:
+            logs[record["unit"]] = record["log"]
     order = [f"benchmark:{task_id}" for task_id in header["tasks"]]
     done = [key for key in order if key in units]
     rows = [row for key in done for row in units[key]]
