@@ -185,4 +185,6 @@ def sample_card_section(stats: Mapping[str, Any], root: Path) -> str:
     if not path.is_file():
         return "### What `talkdem build --generator llm` gives and costs\n\nNot measured for this revision."
     summary = json.loads(path.read_text(encoding="utf-8"))
-    return card_section(summary["stats"], summary["context"], summary.get("examples", [])[:6])
+    # one example row per pattern (the summary keeps up to three)
+    shown = list({row["pattern"]: row for row in reversed(summary.get("examples", []))}.values())[::-1]
+    return card_section(summary["stats"], summary["context"], shown)

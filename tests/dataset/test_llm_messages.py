@@ -265,8 +265,11 @@ def test_the_card_takes_an_llm_builds_own_figures_else_the_committed_sample(tmp_
     assert "Measured on this build." in sample_card_section({"generation": stats}, tmp_path)
     summary = tmp_path / "data" / "llm_sample" / "summary.json"
     summary.parent.mkdir(parents=True)
-    summary.write_text(json.dumps({"stats": stats, "context": "On a sample.", "examples": [rows[2]]}))
-    assert "On a sample." in sample_card_section({}, tmp_path)
+    shown = [{**rows[i], "instruction": f"example {i}"} for i in (1, 2, 4, 5)]  # two patterns, two rows each
+    summary.write_text(json.dumps({"stats": stats, "context": "On a sample.", "examples": shown}))
+    section = sample_card_section({}, tmp_path)
+    assert "On a sample." in section
+    assert [i for i in (1, 2, 4, 5) if f"example {i} |" in section] == [1, 4], "one example per pattern"
 
 
 # --- the build and the sample ----------------------------------------------------------------------------------
