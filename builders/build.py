@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from builders.generation import GenerationRequest, Generator, derive_seed, get_generator
+from builders.generation.base import generate_checked
 from builders.generation.ranking import Ranker, best_index, load_ranker
 from builders.interpretation import interpretation
 from builders.verification import verify
@@ -42,6 +43,8 @@ __all__ = [
     "BuildResult",
     "CheckpointWarning",
     "build",
+    "build_unit",
+    "build_unit_logged",
     "checkpoint_header",
     "dataset_files",
     "default_checkpoint",
@@ -118,13 +121,38 @@ def pddl_row(params: PddlParams) -> dict[str, Any]:
 
 
 # --- one unit ------------------------------------------------------------------------------------------------
-def _candidates(generator: Generator, batch: list[GenerationRequest]) -> list[list[tuple[int, str]]]:
-    """(seed, text) candidates per request: several from a generator that draws them, else its one utterance."""
+@dataclass(frozen=True)
+class _Candidate:
+    seed: int
+    text: str
+    failures: tuple[str, ...] = ()
+    """Failures the generator reports itself (an LLM's unparsable or echoed answer)."""
+    utterance: bool = True
+    """False when the generator gave no utterance at all (nothing for the verifier to check)."""
+
+
+def _candidates(generator: Generator, batch: list[GenerationRequest]) -> list[list[_Candidate]]:
+    """Candidates per request: several from a generator that draws them (rules), else its one checked output."""
     draw = getattr(generator, "generate_candidates", None)
     if draw is not None:
         drawn: list[list[tuple[int, str]]] = draw(batch)
-        return drawn
-    return [[(r.seed, text)] for r, text in zip(batch, generator.generate(batch), strict=True)]
+        return [[_Candidate(seed, text) for seed, text in candidates] for candidates in drawn]
+    outputs = generate_checked(generator, batch)
+    return [
+        [_Candidate(r.seed, out.text, tuple(out.failures), bool(out.utterance))]
+        for r, out in zip(batch, outputs, strict=True)
+    ]
+
+
+def _check(request: GenerationRequest, candidate: _Candidate) -> dict[str, Any]:
+    """The verifier's result, failed ahead of its checks by any failure the generator reported itself."""
+    if candidate.utterance:
+        check = verify(request.task, request.pattern, request.level, candidate.text)
+    else:
+        check = {"passed": False, "failed_checks": []}
+    if candidate.failures:
+        check = {"passed": False, "failed_checks": [*candidate.failures, *check["failed_checks"]]}
+    return check
 
 
 def _generate_verified(
@@ -132,9 +160,14 @@ def _generate_verified(
     requests: list[tuple[Task, str, int, str]],
     base_seed: int,
     ranker: Ranker | None = None,
+    log: list[dict[str, Any]] | None = None,
 ) -> list[tuple[str, dict[str, Any], int, dict[str, Any]]]:
     """(text, verification, seed, ranking) per request: of each request's candidates keep those that pass,
-    the best-ranked of them (or the first without a ranker); regenerate when none passes, up to MAX_ATTEMPTS."""
+    the best-ranked of them (or the first without a ranker); regenerate when none passes, up to MAX_ATTEMPTS.
+
+    A failure the generator reports itself (an LLM's unparsable or echoed answer) fails the candidate ahead of
+    the verifier's checks. `log`, when given, receives one record per attempt (pattern, level, attempt, passed,
+    failed checks): the reasons of attempts that were regenerated, which the rows do not keep."""
     results: list[tuple[str, dict[str, Any], int, dict[str, Any]] | None] = [None] * len(requests)
     pending = list(range(len(requests)))
     for attempt in range(1, MAX_ATTEMPTS + 1):
@@ -145,21 +178,33 @@ def _generate_verified(
             for task, pattern, level, clean in (requests[i] for i in pending)
         ]
         drawn = _candidates(generator, batch)
-        passing: list[list[tuple[int, str]]] = []
-        for request, candidates in zip(batch, drawn, strict=True):
-            passing.append(
-                [(s, t) for s, t in candidates if verify(request.task, request.pattern, request.level, t)["passed"]]
-            )
+        checks = [[_check(request, c) for c in candidates] for request, candidates in zip(batch, drawn, strict=True)]
+        passing = [
+            [(c.seed, c.text) for c, check in zip(candidates, found, strict=True) if check["passed"]]
+            for candidates, found in zip(drawn, checks, strict=True)
+        ]
         scores = _scores(ranker, passing)
         still = []
-        for i, request, candidates, good, score in zip(pending, batch, drawn, passing, scores, strict=True):
+        for i, request, candidates, found, good, score in zip(
+            pending, batch, drawn, checks, passing, scores, strict=True
+        ):
             if good:
                 best = best_index(score) if ranker is not None else 0
                 seed, text = good[best]
+                check = next(f for c, f in zip(candidates, found, strict=True) if c.seed == seed and c.text == text)
             else:
-                seed, text = candidates[0]
+                seed, text, check = candidates[0].seed, candidates[0].text, found[0]
                 still.append(i)
-            check = verify(request.task, request.pattern, request.level, text)
+            if log is not None:
+                log.append(
+                    {
+                        "pattern": request.pattern,
+                        "level": request.level,
+                        "attempt": attempt,
+                        "passed": check["passed"],
+                        "failed_checks": list(check["failed_checks"]),
+                    }
+                )
             ranking = {
                 "score": round(score[best], 6) if good and ranker is not None else None,
                 "model": ranker.model_id if ranker is not None and good else None,
@@ -191,17 +236,36 @@ def build_unit(
 ) -> list[dict[str, Any]]:
     """The 16 rows of one task: its clean control, then each pattern at levels 1-3 (`patterns` narrows
     the patterns, for a quick check of a slow generator)."""
+    return build_unit_logged(generator, task, base_seed, patterns, ranker)[0]
+
+
+def build_unit_logged(
+    generator: Generator,
+    task: Task,
+    base_seed: int,
+    patterns: Sequence[str] = PATTERN_CONFIGS,
+    ranker: Ranker | None = None,
+) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """`build_unit`'s rows and the unit's generation log: every attempt's outcome and, for a generator that
+    reports its usage (the LLM generator), the unit's seconds, generations and tokens."""
+    attempts: list[dict[str, Any]] = []
+    usage = getattr(generator, "usage", None)
+    before = usage() if usage is not None else None
     ((clean, clean_check, clean_seed, clean_rank),) = _generate_verified(
-        generator, [(task, CLEAN, 0, "")], base_seed, ranker
+        generator, [(task, CLEAN, 0, "")], base_seed, ranker, attempts
     )
     variants = [(task, p, lvl, clean) for p in patterns for lvl in LEVELS]
     generated = [(CLEAN, 0, clean, clean_check, clean_seed, clean_rank)] + [
         (p, lvl, text, check, seed, rank)
         for (_, p, lvl, _), (text, check, seed, rank) in zip(
-            variants, _generate_verified(generator, variants, base_seed, ranker), strict=True
+            variants, _generate_verified(generator, variants, base_seed, ranker, attempts), strict=True
         )
     ]
-    return [
+    log: dict[str, Any] = {"attempts": attempts}
+    if usage is not None and before is not None:
+        after = usage()
+        log["usage"] = {key: round(after[key] - before.get(key, 0.0), 3) for key in after}
+    rows = [
         {
             "id": f"{task.task_id}:{pattern}:{level}",
             "task_id": task.task_id,
@@ -222,6 +286,7 @@ def build_unit(
         }
         for pattern, level, text, check, seed, rank in generated
     ]
+    return rows, log
 
 
 # --- checkpoint -------------------------------------------------------------------------------------------------
@@ -263,9 +328,12 @@ def _differences(found: dict[str, Any], wanted: dict[str, Any]) -> str:
     return ", ".join(f"{k} {found.get(k, '(not recorded)')!r} there, {wanted.get(k)!r} now" for k in keys)
 
 
-def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[str, Any]]]:
+def read_checkpoint(
+    path: Path, header: dict[str, Any], logs: dict[str, dict[str, Any]] | None = None
+) -> dict[str, list[dict[str, Any]]]:
     """Finished units by key. A truncated last line is cut off (with a warning); a file that is not this
-    build's checkpoint is refused, never deleted nor cut (it may be another build's hours of LLM generation)."""
+    build's checkpoint is refused, never deleted nor cut (it may be another build's hours of LLM generation).
+    `logs`, when given, receives each unit's generation log (units written without one have none)."""
     if path.exists() and not path.is_file():
         raise ValueError(f"{path}: the checkpoint path is not a file")
     if not path.is_file() or path.stat().st_size == 0:
@@ -307,6 +375,8 @@ def read_checkpoint(path: Path, header: dict[str, Any]) -> dict[str, list[dict[s
                 f"{path}, line {number}: corrupt checkpoint line ({exc}); delete the file to rebuild"
             ) from exc
         units[record["unit"]] = record["rows"]
+        if logs is not None and "log" in record:
+            logs[record["unit"]] = record["log"]
     return units
 
 
@@ -383,6 +453,7 @@ def write_dataset(
     memory: Sequence[Task],
     units: dict[str, list[dict[str, Any]]],
     build_info: dict[str, Any],
+    generation: dict[str, Any] | None = None,
 ) -> tuple[list[Path], dict[str, Any]]:
     from builders.card import write_card
 
@@ -432,6 +503,8 @@ def write_dataset(
             "memory_items": len(memory_rows),
         },
     }
+    if generation is not None:
+        stats["generation"] = generation
     written.append(_write_text(folder / "build_stats.json", json.dumps(stats, indent=2) + "\n"))
     written += write_card(folder, stats)
     return written, stats
@@ -507,7 +580,11 @@ def _build_locked(
     todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
     rank_id = ranker.model_id if ranker is not None else None
     header = checkpoint_header(gen, seed, limit, benchmark, memory, rank_id)
-    units = read_checkpoint(path, header)
+    # Only a generator that reports its usage (the LLM generator) gets the attempt log and costs in its
+    # statistics: the rules build's files stay byte-identical whatever the machine's speed.
+    logged = getattr(gen, "usage", None) is not None
+    logs: dict[str, dict[str, Any]] = {}
+    units = read_checkpoint(path, header, logs)
     resumed = sum(1 for key, _ in todo if key in units)
     if path.stat().st_size == 0:  # the lock created it empty
         _append(path, header)
@@ -518,8 +595,13 @@ def _build_locked(
     for key, task in todo:
         if key in units:
             continue
-        rows = build_unit(gen, task, seed, ranker=ranker)
-        _append(path, {"unit": key, "rows": rows})
+        if logged:
+            rows, log = build_unit_logged(gen, task, seed, ranker=ranker)
+            _append(path, {"unit": key, "rows": rows, "log": log})
+            logs[key] = log
+        else:
+            rows = build_unit(gen, task, seed, ranker=ranker)
+            _append(path, {"unit": key, "rows": rows})
         units[key] = rows
         bar.update(1)
         if throttle:
@@ -533,6 +615,12 @@ def _build_locked(
         "candidates": getattr(gen, "candidates", 1),
         "rank_model": rank_id,
     }
-    files, stats = write_dataset(folder, benchmark, memory, units, build_info)
+    generation = None
+    if logged:
+        from builders.generation.llm_stats import generation_stats
+
+        keys = [f"benchmark:{t.task_id}" for t in benchmark]
+        generation = generation_stats([r for k in keys for r in units[k]], [logs[k] for k in keys if k in logs])
+    files, stats = write_dataset(folder, benchmark, memory, units, build_info, generation)
     path.unlink()
     return BuildResult(folder, tuple(files), stats, resumed)

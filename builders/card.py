@@ -252,6 +252,14 @@ def _sample_page(folder: Path) -> str:
     )
 
 
+def _llm_section(stats: dict[str, Any]) -> str:
+    """What the LLM path gives and costs: this build's own figures for an LLM build, else the committed sample's."""
+    from builders.generation.llm_stats import sample_card_section
+    from talkdem.paths import repo_root
+
+    return sample_card_section(stats, repo_root())
+
+
 def render_card(stats: dict[str, Any], folder: Path) -> str:
     from builders.selection.retrieval import memory_bank_section
 
@@ -279,7 +287,7 @@ def render_card(stats: dict[str, Any], folder: Path) -> str:
         memory_tasks=counts["memory_tasks"],
         provenance=_provenance(info),
         levels=_levels_section(),
-        verification=_stats_section(stats),
+        verification=_stats_section(stats) + "\n\n" + _llm_section(stats),
         markers=markers_part,
         definitions=_definitions(),
         memory_bank=memory_bank_section(folder),

@@ -18,9 +18,12 @@ from talkdem.tasks import Task
 
 __all__ = [
     "CLEAN",
+    "CheckedGenerator",
+    "Generated",
     "GenerationRequest",
     "Generator",
     "derive_seed",
+    "generate_checked",
     "get_generator",
     "register_generator",
     "registered_generators",
@@ -56,6 +59,38 @@ class Generator(Protocol):
         ...
 
     def generate(self, requests: Sequence[GenerationRequest]) -> list[str]: ...
+
+
+@dataclass(frozen=True)
+class Generated:
+    """One utterance and what the generator itself found wrong with it (before verification)."""
+
+    text: str
+    failures: tuple[str, ...] = ()
+    """Failure reasons the verifier cannot see, e.g. `unparsable_output` (no valid structured answer) or
+    `echo_of_prompt`; a non-empty tuple fails the utterance whatever the verifier says."""
+    utterance: bool = True
+    """False when `text` is no utterance but a raw answer kept for inspection (an unparsable one): the
+    verifier is not run on it, its failures are the generator's alone."""
+
+
+class CheckedGenerator(Generator, Protocol):
+    """A generator that reports its own failures (an LLM's unparsable or echoed outputs) and its costs."""
+
+    def generate_checked(self, requests: Sequence[GenerationRequest]) -> list[Generated]: ...
+
+    def usage(self) -> dict[str, float]:
+        """Running totals since creation (seconds, generations, tokens): the build logs each unit's share."""
+        ...
+
+
+def generate_checked(generator: Generator, requests: Sequence[GenerationRequest]) -> list[Generated]:
+    """`generator.generate_checked` when it has one, else its plain texts with no failures of their own."""
+    checked = getattr(generator, "generate_checked", None)
+    if checked is not None:
+        results: list[Generated] = checked(requests)
+        return results
+    return [Generated(text) for text in generator.generate(requests)]
 
 
 def derive_seed(base_seed: int, *parts: object) -> int:

@@ -26,6 +26,14 @@ def register(subparsers: Any) -> None:
     parser.add_argument("--backend", default="hf", help="LLM backend for --generator llm (hf, llamacpp, vllm, openai)")
     parser.add_argument("--model", default="default", help="model for --generator llm (default: SmolLM2-135M)")
     parser.add_argument("--base-url", help="server URL for --backend openai")
+    parser.add_argument("--threads", type=positive_int, help="CPU threads for --backend llamacpp or hf")
+    parser.add_argument(
+        "--structured-output",
+        choices=("json_schema", "json_object", "off"),
+        default="json_schema",
+        help="--generator llm: answers as JSON where the backend constrains decoding (llamacpp, vllm, openai); "
+        "for --backend openai the response_format form (json_object: llama-cpp-python's server); off: plain text",
+    )
     parser.add_argument("--prompt-version", default="v1", help="prompt set under builders/prompts/ (default v1)")
     parser.add_argument(
         "--limit", type=positive_int, help="only the first N benchmark and N memory tasks (a smoke build; needs --out)"
@@ -84,4 +92,9 @@ def _llm_generator(args: argparse.Namespace) -> Any:
     from talkdem.llm.registry import load_model
 
     options: dict[str, Any] = {"base_url": args.base_url} if args.base_url else {}
-    return LLMGenerator(load_model(args.backend, args.model, **options), version=args.prompt_version)
+    if args.threads is not None:
+        options["threads"] = args.threads
+    if args.backend == "openai":
+        options["structured_output"] = args.structured_output
+    backend = load_model(args.backend, args.model, **options)
+    return LLMGenerator(backend, version=args.prompt_version, structured=args.structured_output != "off")

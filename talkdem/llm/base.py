@@ -59,6 +59,9 @@ class LanguageModel(ABC):
     identity: ModelIdentity
     supports_loglikelihood: bool = True
     """False for chat endpoints, which give no prompt log-likelihoods (planners then use generation)."""
+    supports_json_schema: bool = False
+    """True when `generate` constrains decoding to a request's `json_schema` (llama.cpp grammars, vLLM guided
+    decoding, an OpenAI-compatible server's `response_format`); False: the schema is ignored, output is free text."""
 
     @abstractmethod
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:

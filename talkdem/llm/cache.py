@@ -77,6 +77,7 @@ class CachedLM(LanguageModel):
         self.inner = inner
         self.identity = inner.identity
         self.supports_loglikelihood = inner.supports_loglikelihood
+        self.supports_json_schema = inner.supports_json_schema
         self.path = Path(path)
         self.hits = 0
         self.misses = 0
@@ -94,9 +95,19 @@ class CachedLM(LanguageModel):
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
         return self._through_cache(
             "generate",
-            # `chat` joins the key only when off, so entries cached before the field existed keep their keys.
+            # `chat`, `system` and `json_schema` join the key only when set, so entries cached before the fields
+            # existed keep their keys.
             [
-                (r.prompt, r.max_new_tokens, list(r.stop), r.temperature, r.seed, *(() if r.chat else ("raw",)))
+                (
+                    r.prompt,
+                    r.max_new_tokens,
+                    list(r.stop),
+                    r.temperature,
+                    r.seed,
+                    *(() if r.chat else ("raw",)),
+                    *((("system", r.system),) if r.system else ()),
+                    *((("json_schema", r.json_schema),) if r.json_schema else ()),
+                )
                 for r in requests
             ],
             lambda indices: self.inner.generate([requests[i] for i in indices]),

@@ -101,18 +101,32 @@ class HFCausalLM(LanguageModel):
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
         return loglikelihood_by_context(requests, self.score_continuations)
 
+    def chat_text(self, request: GenerateRequest) -> str:
+        """The request in the tokenizer's chat template, ready for the assistant's answer.
+
+        Some templates refuse a system role (Gemma's raise an error); the system message then leads the user's.
+        """
+        try:
+            text = self.tokenizer.apply_chat_template(request.messages(), tokenize=False, add_generation_prompt=True)
+        except Exception as error:  # jinja2's TemplateError, raised by the template itself
+            if not request.system or "system" not in str(error).lower():
+                raise
+            merged = [{"role": "user", "content": request.completion_text()}]
+            text = self.tokenizer.apply_chat_template(merged, tokenize=False, add_generation_prompt=True)
+        return str(text)
+
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
+        """Greedy or seeded-sampled completions. transformers has no constrained decoding of its own, so a
+        request's `json_schema` is not enforced here (`supports_json_schema` is False): the model writes free
+        text, and a caller that wants JSON must ask for it in the prompt and parse it."""
         import torch
 
         outputs = []
         for request in requests:
             if self.use_chat_template and request.chat:
-                text = self.tokenizer.apply_chat_template(
-                    [{"role": "user", "content": request.prompt}], tokenize=False, add_generation_prompt=True
-                )
-                ids = self.encode(text)
+                ids = self.encode(self.chat_text(request))
             else:
-                ids = self._context_ids(request.prompt)
+                ids = self._context_ids(request.completion_text())
             sampling: dict[str, Any] = {"do_sample": False}
             if request.temperature > 0:
                 torch.manual_seed(request.seed)  # HF samples from torch's global generator

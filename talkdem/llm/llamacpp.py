@@ -71,8 +71,18 @@ def _log_sum_exp(logits: NDArray[np.float32]) -> float:
     return peak + float(np.log(np.exp(values - peak).sum()))
 
 
+def _grammar(json_schema: str) -> Any:
+    """The GBNF grammar of a JSON schema, for plain completions (chat completions build it themselves)."""
+    from llama_cpp.llama_grammar import LlamaGrammar
+
+    return LlamaGrammar.from_json_schema(json_schema, verbose=False)
+
+
 class LlamaCppLM(LanguageModel):
     """A GGUF model run by llama.cpp in this process.
+
+    Generation applies the GGUF's chat template (system and user messages) and constrains decoding to a
+    request's JSON schema with a grammar (`supports_json_schema`).
 
     Args:
         model: a GGUF file, or a model's short name (`talkdem models`; `default`: Qwen2.5-Coder-0.5B-Instruct).
@@ -83,6 +93,8 @@ class LlamaCppLM(LanguageModel):
             depend on how tokens were split into batches (measured: 0.07 nats between the prefix-reusing and
             the from-scratch scorer on a SayCan prompt; float32: equal to 1e-12).
     """
+
+    supports_json_schema = True
 
     def __init__(
         self,
@@ -302,13 +314,18 @@ class LlamaCppLM(LanguageModel):
                 "repeat_penalty": 1.0,
                 "stop": [s for s in request.stop if s] or None,
             }
+            schema = request.schema()
             if self.use_chat_template and request.chat:
-                response = self._llm.create_chat_completion(
-                    messages=[{"role": "user", "content": request.prompt}], **options
-                )
+                if schema is not None:
+                    # llama-cpp-python turns a `json_object` format with a schema into a GBNF grammar that
+                    # constrains sampling: the completion is JSON following the schema (or cut at max_tokens).
+                    options["response_format"] = {"type": "json_object", "schema": schema}
+                response = self._llm.create_chat_completion(messages=request.messages(), **options)
                 text = response["choices"][0]["message"]["content"] or ""
             else:
-                response = self._llm.create_completion(request.prompt, **options)
+                if schema is not None:
+                    options["grammar"] = _grammar(request.json_schema)
+                response = self._llm.create_completion(request.completion_text(), **options)
                 text = response["choices"][0]["text"]
             outputs.append(cut_at_stop(str(text), request.stop).strip())
         return outputs

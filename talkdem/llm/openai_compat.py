@@ -38,13 +38,23 @@ from talkdem.llm.served_scoring import (
     sglang_body,
 )
 
-__all__ = ["API_KEY_ENV", "EndpointError", "LoglikelihoodUnsupportedError", "OpenAICompatibleLM", "ScoringAPI"]
+__all__ = [
+    "API_KEY_ENV",
+    "STRUCTURED_OUTPUTS",
+    "EndpointError",
+    "LoglikelihoodUnsupportedError",
+    "OpenAICompatibleLM",
+    "ScoringAPI",
+    "StructuredOutput",
+]
 
 API_KEY_ENV = "OPENAI_API_KEY"
 _MAX_STOP_STRINGS = 4  # the OpenAI API accepts at most four; the rest are applied locally by `cut_at_stop`
 
 Endpoint = Literal["chat", "completions", "auto"]
 ScoringAPI = Literal["completions", "sglang"]
+StructuredOutput = Literal["json_schema", "json_object", "off"]
+STRUCTURED_OUTPUTS: tuple[StructuredOutput, ...] = ("json_schema", "json_object", "off")
 
 
 class EndpointError(RuntimeError):
@@ -90,6 +100,9 @@ class OpenAICompatibleLM(LanguageModel):
         prompt_format: `ids` (token-id prompts, one request per step: vLLM) or `text` (one string per request,
             tokenized by the server and checked through `/extras/tokenize`: llama-cpp-python's server).
         add_bos: override the tokenizer's BOS rule (for a server started with another rule).
+        structured_output: how a request's JSON schema is sent as `response_format`: `json_schema` (OpenAI's form,
+            vLLM's and llama.cpp's `llama-server`), `json_object` with a `schema` field (llama-cpp-python's server),
+            or `off` for servers that constrain nothing (the schema is then not sent; output is free text).
     """
 
     supports_loglikelihood = False
@@ -109,7 +122,12 @@ class OpenAICompatibleLM(LanguageModel):
         scoring_api: ScoringAPI = "completions",
         prompt_format: PromptFormat = "ids",
         add_bos: bool | None = None,
+        structured_output: StructuredOutput = "json_schema",
     ) -> None:
+        if structured_output not in STRUCTURED_OUTPUTS:
+            raise ValueError(
+                f"structured_output must be one of {', '.join(STRUCTURED_OUTPUTS)}, got {structured_output!r}"
+            )
         if max_retries < 0 or timeout <= 0 or backoff < 0 or concurrency < 1:
             raise ValueError("need max_retries >= 0, timeout > 0, backoff >= 0 and concurrency >= 1")
         if endpoint not in ("chat", "completions", "auto"):
@@ -127,6 +145,8 @@ class OpenAICompatibleLM(LanguageModel):
         self.max_backoff = max_backoff
         self.endpoint: Endpoint = endpoint
         self.concurrency = concurrency
+        self.structured_output: StructuredOutput = structured_output
+        self.supports_json_schema = structured_output != "off"
         self.sleep: Callable[[float], None] = time.sleep
         self.identity = ModelIdentity(backend="openai", name=model, revision=self.base_url)
         self.scoring_api: ScoringAPI = scoring_api
@@ -268,14 +288,28 @@ class OpenAICompatibleLM(LanguageModel):
             fields["stop"] = stop
         return fields
 
+    def _response_format(self, request: GenerateRequest) -> dict[str, Any]:
+        schema = request.schema()
+        if schema is None or self.structured_output == "off":
+            return {}
+        if self.structured_output == "json_object":
+            return {"response_format": {"type": "json_object", "schema": schema}}
+        return {
+            "response_format": {
+                "type": "json_schema",
+                "json_schema": {"name": "output", "schema": schema, "strict": True},
+            }
+        }
+
     def _chat(self, request: GenerateRequest) -> str:
-        body = {**self._common_fields(request), "messages": [{"role": "user", "content": request.prompt}]}
+        body = {**self._common_fields(request), **self._response_format(request), "messages": request.messages()}
         choice = self._first_choice(self._post("/chat/completions", body))
         message = choice.get("message") or {}
         return str(message.get("content") or "")
 
     def _completion(self, request: GenerateRequest) -> str:
-        body = {**self._common_fields(request), "prompt": request.prompt}
+        # /v1/completions has no standard response_format; vLLM's and llama.cpp's servers accept it there too.
+        body = {**self._common_fields(request), **self._response_format(request), "prompt": request.completion_text()}
         return str(self._first_choice(self._post("/completions", body)).get("text") or "")
 
     def _first_choice(self, response: dict[str, Any]) -> dict[str, Any]:

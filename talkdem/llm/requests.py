@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass, field
+from typing import Any
 
 __all__ = ["GenerateRequest", "LoglikelihoodRequest"]
 
@@ -36,7 +38,36 @@ class GenerateRequest:
     chat: bool = True
     """Wrap the prompt in the model's chat template when the backend uses one; False: a plain completion
     of the prompt text (REI-Bench's CoT and TOCC generate this way, continuing the prompt as written)."""
+    system: str = ""
+    """A system message sent before the prompt (the user message) when the chat template is used; a plain
+    completion gets it as the prompt's first paragraph (`completion_text`). Empty: no system message."""
+    json_schema: str = ""
+    """A JSON schema (as JSON text, so the request stays hashable) the output must follow, on backends that can
+    constrain decoding to it (`LanguageModel.supports_json_schema`); the others ignore it. Empty: free text."""
 
     def __post_init__(self) -> None:
         if self.temperature < 0:
             raise ValueError(f"temperature must be >= 0, got {self.temperature}")
+        if self.json_schema:
+            try:
+                schema = json.loads(self.json_schema)
+            except json.JSONDecodeError as error:
+                raise ValueError(f"json_schema is not JSON text: {error}") from None
+            if not isinstance(schema, dict):
+                raise ValueError("json_schema must be a JSON object (a schema)")
+
+    def messages(self) -> list[dict[str, str]]:
+        """The chat messages: the system message (when there is one), then the prompt as the user's."""
+        system = [{"role": "system", "content": self.system}] if self.system else []
+        return [*system, {"role": "user", "content": self.prompt}]
+
+    def completion_text(self) -> str:
+        """The text a plain completion continues: the system message as a first paragraph, then the prompt."""
+        return f"{self.system}\n\n{self.prompt}" if self.system else self.prompt
+
+    def schema(self) -> dict[str, Any] | None:
+        """The parsed JSON schema, or None for free text."""
+        if not self.json_schema:
+            return None
+        parsed: dict[str, Any] = json.loads(self.json_schema)
+        return parsed

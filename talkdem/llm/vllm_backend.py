@@ -20,7 +20,7 @@ from typing import Any
 from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
-__all__ = ["VLLMLM", "ScoringPlan", "plan_scoring", "sum_prompt_logprobs"]
+__all__ = ["VLLMLM", "ScoringPlan", "guided_json_options", "plan_scoring", "sum_prompt_logprobs"]
 
 _MISSING = "vLLM is not installed: install it on a machine with a GPU (`pip install vllm`, see docs.vllm.ai)"
 
@@ -96,8 +96,13 @@ def sum_prompt_logprobs(
 class VLLMLM(LanguageModel):
     """A model served by vLLM's offline `LLM` engine in this process (one or more GPUs).
 
+    Generation applies the model's chat template (system and user messages) and constrains decoding to a
+    request's JSON schema by vLLM's structured outputs (`supports_json_schema`).
+
     `engine_options` go to `vllm.LLM` unchanged (e.g. `max_model_len`, `quantization`).
     """
+
+    supports_json_schema = True
 
     def __init__(
         self,
@@ -159,20 +164,43 @@ class VLLMLM(LanguageModel):
         ]
 
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
+        """Chat requests through `LLM.chat` (the model's template, system and user messages), plain completions
+        through `LLM.generate`; a request's `json_schema` becomes vLLM's guided (structured) decoding."""
         if not requests:
             return []
-        params = [
-            self._vllm.SamplingParams(
-                temperature=r.temperature,
-                seed=r.seed if r.temperature > 0 else None,
-                max_tokens=r.max_new_tokens,
-                stop=[s for s in r.stop if s],
-            )
-            for r in requests
-        ]
-        if self.use_chat_template:
-            conversations = [[{"role": "user", "content": r.prompt}] for r in requests]
-            outputs = self._llm.chat(conversations, params, use_tqdm=False)
-        else:
-            outputs = self._llm.generate([r.prompt for r in requests], params, use_tqdm=False)
-        return [cut_at_stop(o.outputs[0].text, r.stop).strip() for o, r in zip(outputs, requests, strict=True)]
+        params = [self._sampling_params(r) for r in requests]
+        chat = [i for i, r in enumerate(requests) if self.use_chat_template and r.chat]
+        plain = [i for i, r in enumerate(requests) if not (self.use_chat_template and r.chat)]
+        texts: dict[int, str] = {}
+        if chat:
+            conversations = [requests[i].messages() for i in chat]
+            outputs = self._llm.chat(conversations, [params[i] for i in chat], use_tqdm=False)
+            texts.update((i, o.outputs[0].text) for i, o in zip(chat, outputs, strict=True))
+        if plain:
+            prompts = [requests[i].completion_text() for i in plain]
+            outputs = self._llm.generate(prompts, [params[i] for i in plain], use_tqdm=False)
+            texts.update((i, o.outputs[0].text) for i, o in zip(plain, outputs, strict=True))
+        return [cut_at_stop(texts[i], r.stop).strip() for i, r in enumerate(requests)]
+
+    def _sampling_params(self, request: GenerateRequest) -> Any:
+        options: dict[str, Any] = {
+            "temperature": request.temperature,
+            "seed": request.seed if request.temperature > 0 else None,
+            "max_tokens": request.max_new_tokens,
+            "stop": [s for s in request.stop if s],
+        }
+        schema = request.schema()
+        if schema is not None:
+            options.update(guided_json_options(self._vllm, schema))
+        return self._vllm.SamplingParams(**options)
+
+
+def guided_json_options(vllm: Any, schema: dict[str, Any]) -> dict[str, Any]:
+    """SamplingParams keywords constraining the output to `schema`: vLLM 0.11 and later name them
+    `structured_outputs=StructuredOutputsParams(json=...)`, earlier releases `guided_decoding=GuidedDecodingParams`."""
+    sampling = vllm.sampling_params
+    if hasattr(sampling, "StructuredOutputsParams"):
+        return {"structured_outputs": sampling.StructuredOutputsParams(json=schema)}
+    if hasattr(sampling, "GuidedDecodingParams"):
+        return {"guided_decoding": sampling.GuidedDecodingParams(json=schema)}
+    raise ImportError(f"this vLLM ({getattr(vllm, '__version__', '?')}) has no structured outputs for a JSON schema")

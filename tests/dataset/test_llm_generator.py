@@ -68,7 +68,7 @@ def test_prompts_are_filled_and_sent_in_one_batch() -> None:
 
 def test_prompt_version_names_folder_and_content() -> None:
     version = LLMGenerator(EchoBackend()).prompt_version
-    assert re.fullmatch(r"v1\+[0-9a-f]{10}", version)
+    assert re.fullmatch(r"v1\+[0-9a-f]{10}\+text", version)  # the stub constrains nothing: plain text
 
 
 def test_backend_answer_count_is_checked() -> None:

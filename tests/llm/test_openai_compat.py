@@ -259,3 +259,28 @@ def test_local_endpoints_bypass_proxies() -> None:
     assert OpenAICompatibleLM("m", base_url="http://127.0.0.1:8080")._opener is not None
     assert OpenAICompatibleLM("m", base_url="http://localhost:8080")._opener is not None
     assert OpenAICompatibleLM("m", base_url="https://api.example.org/v1")._opener is None
+
+
+SCHEMA = '{"type": "object", "properties": {"a": {"type": "string"}}, "required": ["a"]}'
+
+
+def test_system_messages_and_the_schema_are_sent_as_the_server_wants_them(flaky: str) -> None:
+    request = GenerateRequest("Rewrite it.", system="You are a rewriter.", json_schema=SCHEMA)
+    OpenAICompatibleLM("m", base_url=flaky).generate([request])
+    body = _FlakyHandler.bodies[-1]
+    assert body["messages"] == [
+        {"role": "system", "content": "You are a rewriter."},
+        {"role": "user", "content": "Rewrite it."},
+    ]
+    assert body["response_format"] == {
+        "type": "json_schema",
+        "json_schema": {"name": "output", "schema": json.loads(SCHEMA), "strict": True},
+    }
+    OpenAICompatibleLM("m", base_url=flaky, structured_output="json_object").generate([request])
+    assert _FlakyHandler.bodies[-1]["response_format"] == {"type": "json_object", "schema": json.loads(SCHEMA)}
+    off = OpenAICompatibleLM("m", base_url=flaky, structured_output="off")
+    off.generate([request, GenerateRequest("No schema.")])
+    assert off.supports_json_schema is False
+    assert all("response_format" not in b for b in _FlakyHandler.bodies[-2:])
+    with pytest.raises(ValueError, match="structured_output"):
+        OpenAICompatibleLM("m", base_url=flaky, structured_output="xml")  # type: ignore[arg-type]

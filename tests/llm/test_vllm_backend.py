@@ -61,3 +61,21 @@ def test_prompt_logprobs_are_summed_over_the_continuation_span() -> None:
 def test_empty_continuations_are_refused() -> None:
     with pytest.raises(ValueError, match="empty continuation"):
         plan_scoring([LoglikelihoodRequest("ab", "")], _encode, _encode)
+
+
+def test_a_json_schema_becomes_the_structured_outputs_of_either_vllm_generation() -> None:
+    from types import SimpleNamespace
+
+    from talkdem.llm.vllm_backend import guided_json_options
+
+    @dataclass
+    class Params:
+        json: dict[str, object]
+
+    schema = {"type": "object"}
+    newer = SimpleNamespace(sampling_params=SimpleNamespace(StructuredOutputsParams=Params))
+    older = SimpleNamespace(sampling_params=SimpleNamespace(GuidedDecodingParams=Params))
+    assert guided_json_options(newer, schema) == {"structured_outputs": Params(schema)}
+    assert guided_json_options(older, schema) == {"guided_decoding": Params(schema)}
+    with pytest.raises(ImportError, match="no structured outputs"):
+        guided_json_options(SimpleNamespace(sampling_params=SimpleNamespace(), __version__="0.1"), schema)
