@@ -398,7 +398,13 @@ class RulesV3Generator:
             later.append(
                 rng.choice(
                     ([] if "yes" in _lead_words(final) else [f"Yes, {name}."])
-                    + [f"{_cap(name)}, that's it.", rng.choice(remarks).format(**fmt)]
+                    # not a second sentence opening with the name ("The knife, sorry, ... The knife, that's it.")
+                    + [
+                        f"That's it, {name}."
+                        if final.lower().startswith(name.lower())
+                        else f"{_cap(name)}, that's it.",
+                        rng.choice(remarks).format(**fmt),
+                    ]
                 )
             )
         return parts.join(**changed, later=later)

@@ -55,8 +55,9 @@ DEPARTURES: dict[tuple[str, str], str] = {
         "margin that survives another task selection, and a little above the paper's band."
     ),
     ("pronoun_share", "empty_speech"): (
-        "The paper's Level 3 (0.413) falls below its Level 2 (0.461); ours keeps rising with the amount of "
-        "empty speech (both levels inside the paper's bands)."
+        "The paper's Level 3 (0.413) falls below its Level 2 (0.461). rules-v2 kept rising with the amount of "
+        "empty speech; rules-v3, whose Level 3 adds more whole empty sentences with fewer pronouns, follows the "
+        "paper's own column (up, up, down), not the arrow."
     ),
     ("noun_rate", "empty_speech"): (
         "The paper's Level 3 (0.168) is above its Level 2 (0.163); ours keeps falling (both inside the bands)."
