@@ -184,12 +184,49 @@ def _fluency_table(fluency: dict[str, Any], order: Sequence[str]) -> list[str]:
             "sentences), so a lower figure is not by itself more natural speech. Compare a cell across builds, and "
             "read it beside the variety table."
         )
+    baseline = _fluency_baseline(fluency)
+    if baseline is not None:
+        keys = [k for k in cells if k != "clean" and k in baseline]
+        better = [k for k in keys if cells[k]["perplexity"] < baseline[k]["perplexity"]]
+        worse = [_cell_name(k) for k in keys if k not in better]
+        rows[0] += (
+            f" In brackets: the previous build, `rules-v2`, under the same model and clean controls "
+            f"(`docs/validation/rules-v2.json`); this build has the lower perplexity in {len(better)} of {len(keys)} "
+            f"cells" + (f", not in {', '.join(worse)}" if worse else "") + ". Where `rules-v2` scored lower it "
+            "repeated a few stock sentences per cell (its Topic Drift and Intrusion banks), which a language model "
+            "predicts well; this build is not ranked for fluency (see Generation)."
+        )
     rows += ["", "| Pattern | L1 | L2 | L3 |", "| --- | ---: | ---: | ---: |"]
     for pattern in order:
-        values = [cells.get(f"{pattern}:{level}") for level in (1, 2, 3)]
-        shown = " | ".join("-" if v is None else f"{v['relative_perplexity']:.2f}" for v in values)
-        rows.append(f"| {_ABBREVIATIONS.get(pattern, pattern)} | {shown} |")
+        shown = []
+        for level in (1, 2, 3):
+            key = f"{pattern}:{level}"
+            value = cells.get(key)
+            text = "-" if value is None else f"{value['relative_perplexity']:.2f}"
+            if value is not None and baseline is not None and key in baseline:
+                text += f" ({baseline[key]['relative_perplexity']:.2f})"
+            shown.append(text)
+        rows.append(f"| {_ABBREVIATIONS.get(pattern, pattern)} | {' | '.join(shown)} |")
     return rows
+
+
+def _cell_name(key: str) -> str:
+    pattern, level = key.split(":")
+    return f"{_ABBREVIATIONS.get(pattern, pattern)} L{level}"
+
+
+def _fluency_baseline(fluency: dict[str, Any]) -> dict[str, Any] | None:
+    """The rules-v2 fluency cells (committed beside the code), when scored by the same model on another build."""
+    from talkdem.paths import repo_root
+
+    path = repo_root() / "docs" / "validation" / "rules-v2.json"
+    if not path.is_file():
+        return None
+    stored = json.loads(path.read_text(encoding="utf-8")).get("fluency")
+    if not stored or stored.get("model") != fluency.get("model") or stored["cells"] == fluency["cells"]:
+        return None
+    cells: dict[str, Any] = stored["cells"]
+    return cells
 
 
 def _counts(counts: dict[str, int]) -> str:
