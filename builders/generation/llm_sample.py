@@ -2,8 +2,8 @@
 resumable, summarized for the card (`data/llm_sample/`).
 
     python -m builders.generation.llm_sample --backend llamacpp --model qwen2.5-coder-1.5b --threads 1 \\
-        --per-type 2 --out /tmp/llm-sample            # generate (resumes from OUT/checkpoint.jsonl)
-    python -m builders.generation.llm_sample --out /tmp/llm-sample --summarize data/llm_sample
+        --per-type 2 --out OUT            # generate (resumes from OUT/checkpoint.jsonl)
+    python -m builders.generation.llm_sample --out OUT --summarize data/llm_sample
 
 The pick is stated, not tuned: the first `--per-type` benchmark tasks of each of the six task types, in the
 order of `tasks/benchmark.jsonl`, interleaved by type. Each task is one unit, built as `talkdem build` builds
