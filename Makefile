@@ -37,7 +37,16 @@ CHROMIUM := test -x /usr/bin/chromium || (apt-get update && DEBIAN_FRONTEND=noni
 setup-test: $(TEST_STAMP)
 	$(CHROMIUM)
 
+# llama.cpp's native build compiles Intel AMX kernels wherever the CPU reports AMX, but a virtual machine can
+# report AMX without enabling its tile state: the first matrix product then dies with a general protection fault
+# (`ldtilecfg` in libggml-cpu; seen on this project's 2-core VMs, Xeon with AMX under Firecracker). The build keeps
+# every other instruction of the CPU it runs on and leaves AMX out; --no-cache-dir so that pip does not reuse a
+# wheel of the same version built without these flags.
+LLAMA_CMAKE_ARGS := -DCMAKE_C_FLAGS='-mno-amx-tile -mno-amx-int8 -mno-amx-bf16' -DCMAKE_CXX_FLAGS='-mno-amx-tile -mno-amx-int8 -mno-amx-bf16'
+LLAMA_REQUIREMENT := llama-cpp-python[server]==0.3.36
+
 $(TEST_STAMP): $(STAMP)
+	CMAKE_ARGS="$(LLAMA_CMAKE_ARGS)" $(BIN)/python -m pip install --quiet --no-cache-dir "$(LLAMA_REQUIREMENT)"
 	$(BIN)/python -m pip install --quiet "torch==2.13.0" -e ".[dev,llamacpp,inspect,ray]"
 	$(CHROMIUM)
 	touch $(TEST_STAMP)
