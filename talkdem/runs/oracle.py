@@ -7,7 +7,7 @@ from pathlib import Path
 
 from talkdem.instructions import Instruction
 from talkdem.runs.external import plans_digest, score_plans
-from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, read_header, run_lock
+from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, PACKED_EPISODES_FILE, read_header, run_lock
 from talkdem.tasks import get_task
 
 __all__ = ["ORACLE_NAME", "ORACLE_STRATEGY", "write_oracle_run"]
@@ -35,6 +35,6 @@ def write_oracle_run(episodes: Sequence[Instruction], run_dir: Path) -> int:
                 or header.inputs != input_hashes(planner=False)
             )
             if is_ours and stale:
-                for name in (EPISODES_FILE, HEADER_FILE):
+                for name in (EPISODES_FILE, PACKED_EPISODES_FILE, HEADER_FILE):
                     (run_dir / name).unlink(missing_ok=True)
     return score_plans(plans, run_dir, ORACLE_NAME, strategy=ORACLE_STRATEGY, source="reference plans")

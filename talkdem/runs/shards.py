@@ -15,12 +15,12 @@ incomplete set.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from talkdem.runs.episode_files import PACKED_EPISODES_FILE, episodes_file, pack_bytes, replace_file
 from talkdem.runs.records import EpisodeRecord, RunHeader
 from talkdem.runs.spec import MERGE_KEYS, differences
 from talkdem.runs.store import EPISODES_FILE, read_episodes, read_header, run_lock, write_header
@@ -72,15 +72,14 @@ def shard_of(instructions: Sequence[Instruction], shard: Shard) -> list[Instruct
 
 
 def rewrite_episodes(run_dir: Path, episodes: Sequence[EpisodeRecord]) -> None:
-    """Replace `episodes.jsonl` atomically (a crash leaves the old file or the new one, never half)."""
-    path = run_dir / EPISODES_FILE
-    scratch = path.with_name(f".{EPISODES_FILE}.{os.getpid()}.tmp")
-    with scratch.open("w", encoding="utf-8") as handle:
-        for episode in episodes:
-            handle.write(episode.to_line() + "\n")
-        handle.flush()
-        os.fsync(handle.fileno())
-    os.replace(scratch, path)
+    """Replace the run's episodes atomically (a crash leaves the old file or the new one, never half), in the
+    form they are in: a packed run stays packed, so no second episodes file appears beside it."""
+    data = "".join(episode.to_line() + "\n" for episode in episodes).encode("utf-8")
+    found = episodes_file(run_dir)
+    if found is not None and found.name == PACKED_EPISODES_FILE:
+        replace_file(found, pack_bytes(data))
+    else:
+        replace_file(run_dir / EPISODES_FILE, data)
 
 
 @dataclass(frozen=True)

@@ -2,12 +2,14 @@
 
     RUN_DIR/header.json      what the run is (model, planner, strategy, settings); written first
     RUN_DIR/episodes.jsonl   one finished episode per line, flushed and fsynced as it finishes
+                             (or episodes.jsonl.gz, its gzip: a packed run, read the same way)
 
 A run killed mid-write resumes without losing finished episodes: a truncated last line is cut before
 anything is appended, so a new record is never glued onto half of an old one. Two processes on one run
 directory would both append every episode; the second is refused while the first holds the lock. A run
 resumed with settings that change results (another model, step limit, scoring, ...) is refused, since
 its episodes could not be pooled; so is a folder of episodes without the header that says whose they are.
+A packed run is unpacked by the first episode appended to it, never before (a complete run stays packed).
 """
 
 from __future__ import annotations
@@ -15,17 +17,27 @@ from __future__ import annotations
 import fcntl
 import json
 import os
+import sys
 import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TextIO
 
+from talkdem.runs.episode_files import (
+    EPISODES_FILE,
+    PACKED_EPISODES_FILE,
+    episodes_file,
+    read_episode_bytes,
+    unpack_in_place,
+)
 from talkdem.runs.records import EpisodeRecord, RunHeader
 from talkdem.serialization import parse_json
 
 __all__ = [
     "EPISODES_FILE",
     "HEADER_FILE",
+    "PACKED_EPISODES_FILE",
     "EpisodeWriter",
     "RunInUseError",
     "RunProgress",
@@ -40,7 +52,6 @@ __all__ = [
 ]
 
 HEADER_FILE = "header.json"
-EPISODES_FILE = "episodes.jsonl"
 
 
 class RunInUseError(ValueError):
@@ -68,13 +79,15 @@ def read_header(run_dir: Path) -> RunHeader:
 
 
 def read_episodes(run_dir: Path, *, repair: bool = False) -> list[EpisodeRecord]:
-    """Episodes in file order, each validated. A truncated last line (a run killed while writing) is
-    dropped with a warning, and cut from the file when `repair` is set; a bad line elsewhere, or an
-    episode id stored twice, is an error naming the line."""
-    path = run_dir / EPISODES_FILE
-    if not path.is_file():
+    """Episodes in file order, each validated, from `episodes.jsonl` or its packed copy. A truncated last
+    line (a run killed while writing) is dropped with a warning, and cut from the file when `repair` is set
+    (a packed file is left as it is: appending unpacks it, and the cut is made then); a bad line elsewhere,
+    or an episode id stored twice, is an error naming the line."""
+    path = episodes_file(run_dir)
+    if path is None:
         return []
-    lines = path.read_bytes().split(b"\n")
+    repair = repair and path.name == EPISODES_FILE
+    lines = read_episode_bytes(path).split(b"\n")
     episodes: list[EpisodeRecord] = []
     first_line: dict[str, int] = {}
     good_bytes = 0
@@ -177,7 +190,8 @@ def open_run(
         )
         return done
     if run_dir.is_dir() and any(run_dir.iterdir()):
-        what = "episodes without a header" if (run_dir / EPISODES_FILE).exists() else "other files"
+        has_episodes = any((run_dir / name).exists() for name in (EPISODES_FILE, PACKED_EPISODES_FILE))
+        what = "episodes without a header" if has_episodes else "other files"
         raise ValueError(
             f"{run_dir}: holds {what}, not a run directory; choose an empty or new --out (nothing there was changed)"
         )
@@ -223,13 +237,30 @@ def run_progress(run_dir: Path) -> RunProgress:
 
 
 class EpisodeWriter:
-    """Appends one JSON line per finished episode and flushes it to disk at once."""
+    """Appends one JSON line per finished episode and flushes it to disk at once.
+
+    On a packed run the file is opened at the first episode written, after unpacking (said on stderr):
+    appending to a gzip would leave a second file or a recompression per episode, and a complete packed run
+    resumed with nothing to do stays packed. The caller holds the run lock, as for any write."""
 
     def __init__(self, run_dir: Path) -> None:
         self.path = run_dir / EPISODES_FILE
         run_dir.mkdir(parents=True, exist_ok=True)
+        self._handle: TextIO | None = None
+        found = episodes_file(run_dir)  # refuses a folder holding both files before anything is written
+        if found is None or found.name == EPISODES_FILE:
+            self._open()
+
+    def _open(self) -> TextIO:
+        run_dir = self.path.parent
+        if unpack_in_place(run_dir):
+            print(
+                f"{run_dir}: unpacked {PACKED_EPISODES_FILE} to append episodes (`talkdem pack` packs it again)",
+                file=sys.stderr,
+            )
         self._end_last_line()
         self._handle = self.path.open("a", encoding="utf-8")
+        return self._handle
 
     def _end_last_line(self) -> None:
         # A complete last record written without its newline (killed between the two writes) must not
@@ -246,12 +277,14 @@ class EpisodeWriter:
                     handle.write(b"\n")
 
     def write(self, episode: EpisodeRecord) -> None:
-        self._handle.write(episode.to_line() + "\n")
-        self._handle.flush()
-        os.fsync(self._handle.fileno())
+        handle = self._handle or self._open()
+        handle.write(episode.to_line() + "\n")
+        handle.flush()
+        os.fsync(handle.fileno())
 
     def close(self) -> None:
-        self._handle.close()
+        if self._handle is not None:
+            self._handle.close()
 
     def __enter__(self) -> EpisodeWriter:
         return self

@@ -17,11 +17,13 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from talkdem.runs.store import EPISODES_FILE, HEADER_FILE
+from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, PACKED_EPISODES_FILE
 
-__all__ = ["RUN_FILES", "ShardWorker"]
+__all__ = ["EPISODE_FILES", "RUN_FILES", "ShardWorker"]
 
-RUN_FILES = (HEADER_FILE, EPISODES_FILE)
+EPISODE_FILES = (EPISODES_FILE, PACKED_EPISODES_FILE)
+"""A run's episodes in either form: a packed run seeds the job packed, and comes back unpacked if it ran."""
+RUN_FILES = (HEADER_FILE, *EPISODE_FILES)
 
 
 class ShardWorker:

@@ -15,8 +15,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from talkdem.runs.store import run_lock
-from talkdem.sweeps.actor import RUN_FILES, ShardWorker
+from talkdem.runs.store import HEADER_FILE, run_lock
+from talkdem.sweeps.actor import EPISODE_FILES, RUN_FILES, ShardWorker
 from talkdem.sweeps.book import JobBook
 from talkdem.sweeps.progress import SweepProgress
 from talkdem.sweeps.spec import SweepRun
@@ -82,15 +82,26 @@ def _seed(target: Path) -> dict[str, bytes]:
 
 def _write_back(target: Path, files: dict[str, bytes]) -> None:
     """The job's run directory as the actor left it, written atomically file by file (episodes first: a header
-    saying more than the episodes would be the only way to lose one)."""
+    saying more than the episodes would be the only way to lose one). Episodes that come back in the other
+    form than they went (a packed run the job unpacked to append) replace the old form, never sit beside it."""
     if not files:
         return
     with run_lock(target):
-        for name in reversed(RUN_FILES):
+        for name in EPISODE_FILES:
             if name in files:
-                scratch = target / f".{name}.{os.getpid()}.tmp"
-                scratch.write_bytes(files[name])
-                os.replace(scratch, target / name)
+                _replace(target / name, files[name])
+        if any(name in files for name in EPISODE_FILES):
+            for name in EPISODE_FILES:
+                if name not in files:
+                    (target / name).unlink(missing_ok=True)
+        if HEADER_FILE in files:
+            _replace(target / HEADER_FILE, files[HEADER_FILE])
+
+
+def _replace(path: Path, data: bytes) -> None:
+    scratch = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    scratch.write_bytes(data)
+    os.replace(scratch, path)
 
 
 def run_ray(

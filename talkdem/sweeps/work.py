@@ -17,17 +17,19 @@ goes through `talkdem run`, whose resume check refuses a different run.
 
 from __future__ import annotations
 
+import gzip
 import os
 import re
 import shutil
 import warnings
+import zlib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from talkdem.runs.records import RunHeader
 from talkdem.runs.shards import Shard, merge_runs, shard_folder, shard_of, split_run
-from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, read_episodes, read_header, run_lock
+from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, PACKED_EPISODES_FILE, read_episodes, read_header, run_lock
 from talkdem.sweeps.spec import SweepRun, SweepSpec
 
 __all__ = [
@@ -86,12 +88,15 @@ class RunWork:
 
 
 def done_episodes(target: Path) -> int:
-    """Episodes on disk in a run directory (finished lines; cheap enough to poll)."""
-    path = target / EPISODES_FILE
+    """Episodes on disk in a run directory (finished lines; cheap enough to poll). A poll never fails on the
+    moment a pack or unpack holds both files: the plain one is counted then."""
+    plain, packed = target / EPISODES_FILE, target / PACKED_EPISODES_FILE
     try:
-        with path.open("rb") as handle:
+        with plain.open("rb") if plain.is_file() else gzip.open(packed, "rb") as handle:
             return sum(block.count(b"\n") for block in iter(lambda: handle.read(1 << 20), b""))
     except FileNotFoundError:
+        return 0
+    except (OSError, EOFError, zlib.error):  # a damaged packed file: reading the run says what is wrong
         return 0
 
 

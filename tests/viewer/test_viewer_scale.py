@@ -13,6 +13,7 @@ from typing import Any
 import pytest
 from viewer_browser import BASELINE, drive, index_of
 
+from talkdem.runs.episode_files import episodes_file, read_episode_bytes
 from talkdem.viewer import load_runs, write_viewer
 
 COPIES = 11
@@ -33,7 +34,9 @@ def generated(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, float]:
     root = tmp_path_factory.mktemp("large")
     source = BASELINE / "levels" / "qwen2.5-coder-0.5b-care"
     lines = []
-    for line in (source / "episodes.jsonl").read_text(encoding="utf-8").splitlines():
+    stored = episodes_file(source)  # committed runs may be packed
+    assert stored is not None, f"{source}: no episodes"
+    for line in read_episode_bytes(stored).decode("utf-8").splitlines():
         record = json.loads(line)
         record["trace"].pop("final_state", None)
         lines.append(json.dumps(record))
