@@ -81,3 +81,40 @@ def test_a_failed_job_is_reported_and_resumes(tmp_path: Path, capsys: pytest.Cap
     assert all("no model here (exit 2; output in" in failure for failure in result.failures)
     resumed = run_sweep(spec, workers=2, threads=1, progress=False, talkdem=SCRIPTED)
     assert resumed.failures == () and resumed.episodes == 4
+
+
+def test_packed_runs_are_resumed_and_left_alone_by_a_sweep(tmp_path: Path) -> None:
+    from talkdem.runs import EPISODES_FILE, PACKED_EPISODES_FILE
+    from talkdem.runs.pack import pack_run
+
+    spec = load_sweep(_spec(tmp_path))
+    (run,) = spec.runs
+    _serial(run.run_dir, "clean")  # 2 of the 4 episodes, then packed as committed runs are
+    started = _records(run.run_dir)
+    assert pack_run(run.run_dir, partial=True).changed
+    result = run_sweep(spec, workers=2, threads=1, progress=False, talkdem=SCRIPTED)
+    assert result.failures == () and (result.resumed, result.episodes) == (2, 4)
+    assert not (run.run_dir / PACKED_EPISODES_FILE).exists()
+    assert all(record in _records(run.run_dir) for record in started)
+
+    assert pack_run(run.run_dir).changed  # finished and packed: settled, nothing runs, it stays packed
+    packed = (run.run_dir / PACKED_EPISODES_FILE).read_bytes()
+    again = run_sweep(spec, workers=2, threads=1, progress=False, talkdem=[sys.executable, "-c", "raise SystemExit(3)"])
+    assert again.failures == () and (again.resumed, again.episodes) == (4, 4)
+    assert (run.run_dir / PACKED_EPISODES_FILE).read_bytes() == packed and not (run.run_dir / EPISODES_FILE).exists()
+
+
+def test_a_ray_job_that_unpacked_its_run_replaces_the_packed_file(tmp_path: Path) -> None:
+    from talkdem.runs import EPISODES_FILE, HEADER_FILE, PACKED_EPISODES_FILE
+    from talkdem.sweeps.ray_cluster import _seed, _write_back
+
+    target = tmp_path / "run"
+    target.mkdir()
+    (target / HEADER_FILE).write_text("{}")
+    (target / PACKED_EPISODES_FILE).write_bytes(b"packed")
+    assert set(_seed(target)) == {HEADER_FILE, PACKED_EPISODES_FILE}, "a packed run seeds its job"
+    _write_back(target, {HEADER_FILE: b"{}", PACKED_EPISODES_FILE: b"packed"})  # nothing ran
+    assert (target / PACKED_EPISODES_FILE).read_bytes() == b"packed" and not (target / EPISODES_FILE).exists()
+    _write_back(target, {HEADER_FILE: b"{ }", EPISODES_FILE: b"plain\n"})  # the job unpacked it to append
+    assert sorted(p.name for p in target.iterdir()) == [EPISODES_FILE, HEADER_FILE]
+    assert (target / EPISODES_FILE).read_bytes() == b"plain\n" and (target / HEADER_FILE).read_bytes() == b"{ }"
