@@ -22,9 +22,9 @@ from talkdem.paths import repo_root
 from talkdem.planner.saycan import SayCanConfig
 from talkdem.planner.strategies import load_strategy
 from talkdem.runs import read_episodes, read_header
-from talkdem.runs.store import run_progress
 from talkdem.runs.records import RecordError, RunHeader
 from talkdem.runs.spec import OUTCOME_KEYS, RunSpec, input_hashes, planner_settings
+from talkdem.runs.store import run_progress
 
 SCRIPT = Path(__file__).parent / "run_scripted.py"
 ARGS = ["run", "--backend", "scripted", "--model", "m", "--conditions", "clean,intrusion:1", "--limit", "2"]
