@@ -22,7 +22,7 @@ import itertools
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
 from talkdem.llm.branch_bound import BestContinuation, best_continuation, common_prefix_length
 from talkdem.llm.models import get_model, model_path
+from talkdem.llm.options import BackendOption
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 
 __all__ = ["LlamaCppLM"]
@@ -95,6 +96,14 @@ class LlamaCppLM(LanguageModel):
     """
 
     supports_json_schema = True
+    options: ClassVar[tuple[BackendOption, ...]] = (
+        BackendOption("n_ctx", "int", "context length in tokens", minimum=1),
+        BackendOption("threads", "int", "CPU threads (llama.cpp's default when unset)", minimum=1),
+        BackendOption("n_batch", "int", "tokens evaluated per batch", minimum=1),
+        BackendOption("chat_template", "bool", "wrap generation prompts in the GGUF's chat template"),
+        BackendOption("seed", "int", "the sampler's seed", minimum=0),
+        BackendOption("f32_kv_cache", "bool", "float32 keys and values (false: llama.cpp's float16)"),
+    )
 
     def __init__(
         self,

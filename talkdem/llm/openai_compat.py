@@ -24,9 +24,10 @@ import urllib.parse
 import urllib.request
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, loglikelihood_by_context
+from talkdem.llm.options import BackendOption
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
 from talkdem.llm.served_scoring import (
     PromptFormat,
@@ -106,6 +107,27 @@ class OpenAICompatibleLM(LanguageModel):
     """
 
     supports_loglikelihood = False
+    # Not settable by name: `base_url` (the run spreads its episodes over `--base-url` servers, one client each),
+    # `api_key` (a secret: from $OPENAI_API_KEY, never on a command line or in a header) and `concurrency` (its
+    # name is the run's `--concurrency`, episodes stepping at once; one client's parallel requests are a caller's).
+    options: ClassVar[tuple[BackendOption, ...]] = (
+        BackendOption("timeout", "float", "seconds to wait for one answer", minimum=0, above_minimum=True),
+        BackendOption("max_retries", "int", "further attempts after a server error or timeout", minimum=0),
+        BackendOption("backoff", "float", "first wait between attempts (seconds), doubled each retry", minimum=0),
+        BackendOption("max_backoff", "float", "longest wait between attempts (seconds)", minimum=0),
+        BackendOption(
+            "endpoint", "choice", "generation route", choices={e: e for e in ("chat", "completions", "auto")}
+        ),
+        BackendOption("tokenizer", "str", "the served model's tokenizer (model name, GGUF file or HF folder)"),
+        BackendOption("scoring_api", "choice", "scoring route", choices={a: a for a in ("completions", "sglang")}),
+        BackendOption("prompt_format", "choice", "scoring prompts as", choices={f: f for f in ("ids", "text")}),
+        BackendOption(
+            "add_bos", "choice", "the tokenizer's BOS rule", choices={"model": None, "always": True, "never": False}
+        ),
+        BackendOption(
+            "structured_output", "choice", "how a JSON schema is sent", choices={s: s for s in STRUCTURED_OUTPUTS}
+        ),
+    )
 
     def __init__(
         self,
