@@ -17,6 +17,7 @@ from talkdem.llm.branch_bound import BestContinuation
 from talkdem.llm.models import get_model, model_path
 from talkdem.llm.options import BackendOption
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.tokenizing import HFTokenSplit
 from talkdem.paths import cache_dir
 
 if TYPE_CHECKING:
@@ -82,6 +83,7 @@ class HFCausalLM(LanguageModel):
         name = spec.name if spec is not None else str(source)
         self.identity = ModelIdentity(backend="hf", name=name, revision=revision)
         self.use_chat_template = chat_template and bool(getattr(self.tokenizer, "chat_template", None))
+        self.split = HFTokenSplit(self.tokenizer)
         self.scorer: PrefixCachedScorer = PrefixCachedScorer(self.model, max_packed_tokens=max_packed_tokens)
 
     # -- tokenization, done once and centrally -------------------------------------------------------
@@ -89,16 +91,10 @@ class HFCausalLM(LanguageModel):
         return len(self.encode(text))
 
     def encode(self, text: str) -> list[int]:
-        ids: list[int] = self.tokenizer(text, add_special_tokens=False).input_ids
-        return ids
+        return self.split.encode(text)
 
     def _context_ids(self, context: str) -> list[int]:
-        ids = self.encode(context)
-        bos = self.tokenizer.bos_token_id
-        # Models trained with a BOS token expect it; SmolLM2 has none in its GGUF metadata by default.
-        if bos is not None and getattr(self.tokenizer, "add_bos_token", False):
-            ids = [bos, *ids]
-        return ids
+        return self.split.context_ids(context)
 
     # -- the interface --------------------------------------------------------------------------------
     def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:

@@ -32,6 +32,7 @@ from talkdem.llm.branch_bound import BestContinuation, best_continuation, common
 from talkdem.llm.models import get_model, model_path
 from talkdem.llm.options import BackendOption
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.tokenizing import GGUFTokenSplit
 
 __all__ = ["LlamaCppLM"]
 
@@ -139,6 +140,7 @@ class LlamaCppLM(LanguageModel):
         )
         self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256)
         self.use_chat_template = chat_template and bool(self._llm.metadata.get("tokenizer.chat_template"))
+        self.split = GGUFTokenSplit(self._llm)
         self._next_logprobs: NDArray[np.float64] | None = None
         self.tokens_evaluated = 0
         """Tokens run through the model so far (context and candidates): what `make bench` compares."""
@@ -171,13 +173,11 @@ class LlamaCppLM(LanguageModel):
         return len(self.encode(text))
 
     def encode(self, text: str) -> list[int]:
-        ids: list[int] = self._llm.tokenize(text.encode(), add_bos=False, special=False)
-        return ids
+        return self.split.encode(text)
 
     def context_ids(self, context: str) -> list[int]:
         """The context's tokens, with BOS when the model's metadata asks for it (SmolLM2 does not)."""
-        ids: list[int] = self._llm.tokenize(context.encode(), add_bos=True, special=False)
-        return ids
+        return self.split.context_ids(context)
 
     # -- scoring --------------------------------------------------------------------------------------
     def _advance_to(self, ids: Sequence[int]) -> NDArray[np.float64]:

@@ -20,6 +20,7 @@ from typing import Any, ClassVar
 from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop
 from talkdem.llm.options import BackendOption
 from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.tokenizing import HFTokenSplit
 
 __all__ = ["VLLMLM", "ScoringPlan", "guided_json_options", "plan_scoring", "sum_prompt_logprobs"]
 
@@ -146,21 +147,17 @@ class VLLMLM(LanguageModel):
         self._vllm = vllm
         self.tokenizer = self._llm.get_tokenizer()
         self.use_chat_template = chat_template and bool(getattr(self.tokenizer, "chat_template", None))
+        self.split = HFTokenSplit(self.tokenizer)
         self.identity = ModelIdentity(backend="vllm", name=model, revision=revision or "")
 
     def token_count(self, text: str) -> int:
         return len(self.encode(text))
 
     def encode(self, text: str) -> list[int]:
-        ids: list[int] = self.tokenizer(text, add_special_tokens=False).input_ids
-        return ids
+        return self.split.encode(text)
 
     def _context_ids(self, context: str) -> list[int]:
-        ids = self.encode(context)
-        bos = getattr(self.tokenizer, "bos_token_id", None)
-        if bos is not None and getattr(self.tokenizer, "add_bos_token", False):
-            ids = [bos, *ids]
-        return ids
+        return self.split.context_ids(context)
 
     def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
         return self.loglikelihood([LoglikelihoodRequest(context, c) for c in continuations])
