@@ -14,7 +14,7 @@ from talkdem.sim.seam import DEFAULT_MAX_STEPS
 if TYPE_CHECKING:
     from talkdem.clarify import ClarifyMode
     from talkdem.instructions import Instruction
-    from talkdem.llm.base import LanguageModel
+    from talkdem.llm.interface.base import LanguageModel
     from talkdem.planner.react import ReActConfig
     from talkdem.planner.saycan import SayCanConfig
     from talkdem.planner.strategies import Strategy
@@ -30,7 +30,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--model", default="default", help="model name (`talkdem models`), path, model id or served model name"
     )
-    from talkdem.llm.registry import BACKENDS  # a light module: backends themselves load lazily
+    from talkdem.llm.interface.registry import BACKENDS  # a light module: backends themselves load lazily
     from talkdem.planner.strategies import STRATEGIES
 
     parser.add_argument("--backend", default="llamacpp", choices=BACKENDS.names())
@@ -275,14 +275,14 @@ StrategyLoader = Callable[..., "Strategy"]
 
 
 def run(args: argparse.Namespace, *, load: ModelLoader | None = None, strategies: StrategyLoader | None = None) -> int:
-    from talkdem.llm.registry import load_model
+    from talkdem.llm.interface.registry import load_model
     from talkdem.planner.strategies import load_strategy
     from talkdem.runs.runner import run_episodes
 
     plan = plan_run(args)
     load = load or load_model
     if args.cache is not None:
-        from talkdem.llm.cache import open_cache
+        from talkdem.llm.scoring.cache import open_cache
 
         open_cache(args.cache).close()  # a bad --cache file fails now, not after the model has loaded
     clients = []
@@ -290,7 +290,7 @@ def run(args: argparse.Namespace, *, load: ModelLoader | None = None, strategies
         url = plan.urls[slot % len(plan.urls)]
         clients.append(load(args.backend, args.model, **plan.options, **({"base_url": url} if url else {})))
     if args.cache is not None:
-        from talkdem.llm.cache import CachedLM
+        from talkdem.llm.scoring.cache import CachedLM
 
         clients = [CachedLM(client, args.cache) for client in clients]
     model = clients[0]
@@ -357,7 +357,7 @@ _SCORING_OPTIONS = {"scoring_api": "completions", "prompt_format": "ids", "add_b
 def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
     """The backend's constructor options from `--model-arg` and its shorthand flags, each checked by the backend's
     own declaration, and what the planner needs of the backend."""
-    from talkdem.llm.registry import backend_options, backends_with_option, model_args
+    from talkdem.llm.interface.registry import backend_options, backends_with_option, model_args
 
     backend = args.backend
     if backend != "openai" and (args.base_url or args.concurrency > 1):
@@ -405,7 +405,7 @@ def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _local_tokenizer(model: str) -> bool:
-    from talkdem.llm.models import get_model
+    from talkdem.llm.interface.models import get_model
 
     return get_model(model) is not None or Path(model).expanduser().exists()
 

@@ -19,7 +19,7 @@ Every value is validated by `talkdem run`'s own parser and argument checks (`pla
 the keys of `args`, `planner` and a strategy's `args` are `talkdem run`'s option names (`base_url` for
 `--base-url`), so a setting means exactly what the flag means, and a bad one is one line naming the file, the
 key and what was expected. A model's `model_args` are its backend's constructor options, checked by the backend's
-own declaration (`talkdem.llm.options`) and passed as `--model-arg KEY=VALUE`; `threads` is not one of them
+own declaration (`talkdem.llm.interface.options`) and passed as `--model-arg KEY=VALUE`; `threads` is not one of them
 here, since the executor gives every worker its share of the CPUs (`talkdem sweep --threads`).
 """
 
@@ -259,7 +259,7 @@ class _Model:
 
 
 def _models(path: Path, value: object) -> list[_Model]:
-    from talkdem.llm.registry import BACKENDS
+    from talkdem.llm.interface.registry import BACKENDS
 
     if not isinstance(value, list) or not value:
         raise _fail(path, "models", f"expected a non-empty list of models, got {_kind(value)}")
@@ -293,7 +293,7 @@ def _models(path: Path, value: object) -> list[_Model]:
 
 def _model_args(path: Path, key: str, backend: str, value: object) -> list[str]:
     """`--model-arg KEY=VALUE` arguments for a model's `model_args` mapping, each value checked by the backend."""
-    from talkdem.llm.registry import model_args
+    from talkdem.llm.interface.registry import model_args
 
     argv: list[str] = []
     for name, setting in _mapping(path, key, value).items():

@@ -9,7 +9,7 @@ import pytest
 
 from talkdem.cli import build_parser, main
 from talkdem.cli.run import RunPlan, plan_run
-from talkdem.llm.models import FAST_TEST_MODEL
+from talkdem.llm.interface.models import FAST_TEST_MODEL
 
 SMALL = ["--limit", "1", "--conditions", "clean"]
 

@@ -8,8 +8,8 @@ import inspect
 
 import pytest
 
-from talkdem.llm.options import BackendOption, parse_model_args
-from talkdem.llm.registry import BACKENDS, backend_options, backends_with_option, model_args
+from talkdem.llm.interface.options import BackendOption, parse_model_args
+from talkdem.llm.interface.registry import BACKENDS, backend_options, backends_with_option, model_args
 
 DECLARED = (
     BackendOption("threads", "int", minimum=1),

@@ -8,8 +8,8 @@ from typing import Any
 
 import pytest
 
-from talkdem.llm.models import FAST_TEST_MODEL, model_path
-from talkdem.llm.tokenizing import GGUFTokenSplit, HFTokenSplit, TokenSplit, bos_to_use
+from talkdem.llm.backends.tokenizing import GGUFTokenSplit, HFTokenSplit, TokenSplit, bos_to_use
+from talkdem.llm.interface.models import FAST_TEST_MODEL, model_path
 
 CONTEXT = "Robot: Hi there, I'm a robot operating in a house.\nHuman: bring me an apple\nRobot: 1."
 CONTINUATION = " find an apple"

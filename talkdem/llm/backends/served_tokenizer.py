@@ -3,8 +3,8 @@ the in-process backends make, so a served run scores exactly the tokens a local 
 
 Two sources, both local (nothing is downloaded):
 - a GGUF file or a catalog model name (`talkdem models`): the file's own vocabulary through llama.cpp with
-  `vocab_only` (no weights are loaded), split by `GGUFTokenSplit` as `talkdem.llm.llamacpp` splits;
-- a folder with a Hugging Face tokenizer (`tokenizer.json`, ...): split by `HFTokenSplit` as `talkdem.llm.hf`
+  `vocab_only` (no weights are loaded), split by `GGUFTokenSplit` as `talkdem.llm.backends.llamacpp` splits;
+- a folder with a Hugging Face tokenizer (`tokenizer.json`, ...): split by `HFTokenSplit` as `talkdem.llm.backends.hf`
   splits.
 
 The BOS rule is the model's own (GGUF metadata `tokenizer.ggml.add_bos_token`; the HF tokenizer's
@@ -20,7 +20,7 @@ import os
 from pathlib import Path
 from typing import Any, Protocol
 
-from talkdem.llm.tokenizing import GGUFTokenSplit, HFTokenSplit
+from talkdem.llm.backends.tokenizing import GGUFTokenSplit, HFTokenSplit
 
 __all__ = ["ServedTokenizer", "load_tokenizer"]
 
@@ -76,8 +76,8 @@ class _HFTokenizer(HFTokenSplit):
 def load_tokenizer(source: str, add_bos: bool | None = None) -> ServedTokenizer:
     """A GGUF file, a catalog model name, or a local folder holding a Hugging Face tokenizer (loaded once per
     process: the clients of a concurrent run share it)."""
-    from talkdem.llm.base import file_sha256
-    from talkdem.llm.models import get_model, model_path
+    from talkdem.llm.interface.base import file_sha256
+    from talkdem.llm.interface.models import get_model, model_path
 
     spec = get_model(source)
     if spec is not None:

@@ -5,7 +5,7 @@ Generation serves CoT/TOCC rewriting, the dataset's LLM generators and the gener
 log-likelihoods; given the served model's own `tokenizer` (a GGUF file, a catalog name or a local Hugging Face
 tokenizer folder), this backend also scores: SayCan's log-likelihood protocol over `/v1/completions` with echoed
 prompt log-probabilities (vLLM: token-id prompts, all candidates of a step in one request; llama-cpp-python's
-server: one string per request) or SGLang's `/generate` (see `talkdem.llm.served_scoring`). Without a tokenizer
+server: one string per request) or SGLang's `/generate` (see `talkdem.llm.scoring.served_scoring`). Without a tokenizer
 `loglikelihood` raises `LoglikelihoodUnsupportedError`.
 
 Server errors (5xx, 429), refused or dropped connections and timeouts are retried with exponential
@@ -26,10 +26,10 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any, ClassVar, Literal
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, loglikelihood_by_context
-from talkdem.llm.options import BackendOption
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
-from talkdem.llm.served_scoring import (
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity, cut_at_stop, loglikelihood_by_context
+from talkdem.llm.interface.options import BackendOption
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.scoring.served_scoring import (
     PromptFormat,
     ScoringProtocolError,
     ScoringRequest,
@@ -175,7 +175,7 @@ class OpenAICompatibleLM(LanguageModel):
         self.prompt_format: PromptFormat = prompt_format
         self.tokenizer = None
         if tokenizer is not None:
-            from talkdem.llm.served_tokenizer import load_tokenizer
+            from talkdem.llm.backends.served_tokenizer import load_tokenizer
 
             self.tokenizer = load_tokenizer(tokenizer, add_bos)
             self.supports_loglikelihood = True

@@ -12,7 +12,7 @@ token such as SmolLM2. Scoring many continuations of one context (SayCan's inner
    with the previous candidate, and only the candidate's remaining tokens are evaluated. Its last token
    never needs a pass (its probability comes from the position before it).
 3. When only the best candidate under sum scoring is wanted (SayCan's default), `best_continuation` finds it
-   exactly by branch and bound over the candidates' token trie (`talkdem.llm.branch_bound`), running only
+   exactly by branch and bound over the candidates' token trie (`talkdem.llm.scoring.branch_bound`), running only
    the prefixes that score above the winner.
 """
 
@@ -27,12 +27,12 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
-from talkdem.llm.branch_bound import BestContinuation, best_continuation, common_prefix_length
-from talkdem.llm.models import get_model, model_path
-from talkdem.llm.options import BackendOption
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
-from talkdem.llm.tokenizing import GGUFTokenSplit
+from talkdem.llm.backends.tokenizing import GGUFTokenSplit
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
+from talkdem.llm.interface.models import get_model, model_path
+from talkdem.llm.interface.options import BackendOption
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.scoring.branch_bound import BestContinuation, best_continuation, common_prefix_length
 
 __all__ = ["LlamaCppLM"]
 

@@ -5,17 +5,17 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import Any
 
-from talkdem.llm.base import LanguageModel
-from talkdem.llm.options import BackendOption, OptionValue, parse_model_args
+from talkdem.llm.interface.base import LanguageModel
+from talkdem.llm.interface.options import BackendOption, OptionValue, parse_model_args
 from talkdem.registry import Registry, UnknownNameError
 
 __all__ = ["BACKENDS", "UnknownBackendError", "backend_options", "backends_with_option", "load_model", "model_args"]
 
 BACKENDS: Registry[LanguageModel] = Registry("backend")
-BACKENDS.register("hf", "talkdem.llm.hf:HFCausalLM", "Hugging Face transformers")
-BACKENDS.register("llamacpp", "talkdem.llm.llamacpp:LlamaCppLM", "llama.cpp")
-BACKENDS.register("vllm", "talkdem.llm.vllm_backend:VLLMLM", "vLLM")
-BACKENDS.register("openai", "talkdem.llm.openai_compat:OpenAICompatibleLM", "OpenAI-compatible server")
+BACKENDS.register("hf", "talkdem.llm.backends.hf:HFCausalLM", "Hugging Face transformers")
+BACKENDS.register("llamacpp", "talkdem.llm.backends.llamacpp:LlamaCppLM", "llama.cpp")
+BACKENDS.register("vllm", "talkdem.llm.backends.vllm_backend:VLLMLM", "vLLM")
+BACKENDS.register("openai", "talkdem.llm.backends.openai_compat:OpenAICompatibleLM", "OpenAI-compatible server")
 
 UnknownBackendError = UnknownNameError  # the name callers already catch
 

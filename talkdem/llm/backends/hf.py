@@ -12,16 +12,16 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
-from talkdem.llm.branch_bound import BestContinuation
-from talkdem.llm.models import get_model, model_path
-from talkdem.llm.options import BackendOption
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
-from talkdem.llm.tokenizing import HFTokenSplit
+from talkdem.llm.backends.tokenizing import HFTokenSplit
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
+from talkdem.llm.interface.models import get_model, model_path
+from talkdem.llm.interface.options import BackendOption
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.scoring.branch_bound import BestContinuation
 from talkdem.paths import cache_dir
 
 if TYPE_CHECKING:
-    from talkdem.llm.prefix_scorer import PrefixCachedScorer
+    from talkdem.llm.scoring.prefix_scorer import PrefixCachedScorer
 
 __all__ = ["HFCausalLM"]
 
@@ -58,7 +58,9 @@ class HFCausalLM(LanguageModel):
     ) -> None:
         import torch
 
-        from talkdem.llm.prefix_scorer import PrefixCachedScorer  # torch's: imported with the model, not the module
+        from talkdem.llm.scoring.prefix_scorer import (
+            PrefixCachedScorer,
+        )  # torch's: imported with the model, not the module
 
         os.environ.setdefault("HF_HUB_OFFLINE", "1")
         if threads:
@@ -107,7 +109,7 @@ class HFCausalLM(LanguageModel):
 
     def naive_score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
         """Reference path: one full forward pass per continuation."""
-        from talkdem.llm.prefix_scorer import naive_scores
+        from talkdem.llm.scoring.prefix_scorer import naive_scores
 
         return naive_scores(self.model, self._context_ids(context), [self.encode(c) for c in continuations])
 

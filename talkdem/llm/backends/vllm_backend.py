@@ -17,10 +17,10 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop
-from talkdem.llm.options import BackendOption
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
-from talkdem.llm.tokenizing import HFTokenSplit
+from talkdem.llm.backends.tokenizing import HFTokenSplit
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity, cut_at_stop
+from talkdem.llm.interface.options import BackendOption
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
 
 __all__ = ["VLLMLM", "ScoringPlan", "guided_json_options", "plan_scoring", "sum_prompt_logprobs"]
 
