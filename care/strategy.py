@@ -22,7 +22,7 @@ from care.memory import Encoder, memory_embeddings
 from care.retrieval import top_k
 from talkdem.embeddings import ENCODER_NAME
 from talkdem.instructions import MemoryItem, load_memory_bank
-from talkdem.llm.base import LanguageModel
+from talkdem.llm.interface.base import LanguageModel
 from talkdem.planner.prompt import Demonstration, prompt_text
 from talkdem.planner.strategies import PlannerInput, Strategy
 

@@ -18,7 +18,7 @@ from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from talkdem.llm.base import LanguageModel
+    from talkdem.llm.interface.base import LanguageModel
 
 NAIVE_SAMPLE = 6
 THREADS = 2
@@ -60,7 +60,7 @@ def _compare(
 
 
 def _hf_scoring(skills: list[str]) -> None:
-    from talkdem.llm.hf import HFCausalLM
+    from talkdem.llm.backends.hf import HFCausalLM
 
     load = time.perf_counter()
     model = HFCausalLM("smollm2-135m-instruct", threads=THREADS)

@@ -55,11 +55,11 @@ def _episode(
 
 def main() -> None:
     try:
-        from talkdem.llm.llamacpp import LlamaCppLM
+        from talkdem.llm.backends.llamacpp import LlamaCppLM
     except ImportError as error:
         print(f"saycan choice: skipped ({error})")
         return
-    from talkdem.llm.models import DEFAULT_MODEL
+    from talkdem.llm.interface.models import DEFAULT_MODEL
     from talkdem.skills import vocabulary
 
     model = LlamaCppLM(DEFAULT_MODEL, threads=THREADS)

@@ -44,13 +44,13 @@ def _wait(url: str, process: subprocess.Popen[bytes]) -> None:
 
 def main() -> None:
     try:
-        from talkdem.llm.llamacpp import LlamaCppLM
+        from talkdem.llm.backends.llamacpp import LlamaCppLM
     except ImportError as error:
         print(f"served scoring: skipped ({error})")
         return
-    from talkdem.llm.models import FAST_TEST_MODEL, model_path
-    from talkdem.llm.openai_compat import OpenAICompatibleLM
-    from talkdem.llm.served_scoring import ScoringRequest, completions_body, read_completions_choice
+    from talkdem.llm.backends.openai_compat import OpenAICompatibleLM
+    from talkdem.llm.interface.models import FAST_TEST_MODEL, model_path
+    from talkdem.llm.scoring.served_scoring import ScoringRequest, completions_body, read_completions_choice
     from talkdem.planner import PlannerInput, SayCanPlanner
     from talkdem.tasks import load_tasks
 

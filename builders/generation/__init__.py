@@ -17,7 +17,7 @@ from builders.generation.rules_v3 import RulesV3Generator
 def _default_llm_generator() -> Generator:
     """The paper's prompts on the embedded default model (SmolLM2-135M through transformers)."""
     from builders.generation.llm import LLMGenerator
-    from talkdem.llm.registry import load_model
+    from talkdem.llm.interface.registry import load_model
 
     return LLMGenerator(load_model("hf", "smollm2-135m-instruct"))
 

@@ -38,7 +38,7 @@ from typing import Any, Protocol
 
 from builders.generation.base import CLEAN, Generated, GenerationRequest
 from builders.lexicon import display_name
-from talkdem.llm.requests import GenerateRequest
+from talkdem.llm.interface.requests import GenerateRequest
 
 __all__ = [
     "ECHO_OF_INPUT",

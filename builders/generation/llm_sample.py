@@ -182,7 +182,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             summary = summarize(args.out, args.summarize, args.model_sha256, args.context)
             print(json.dumps(summary["sample"], indent=2))
             return 0
-        from talkdem.llm.registry import load_model
+        from talkdem.llm.interface.registry import load_model
 
         options: dict[str, Any] = {}
         if args.base_url:

@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-from talkdem.llm.requests import LoglikelihoodRequest
+from talkdem.llm.interface.requests import LoglikelihoodRequest
 
 __all__ = ["CONTEXT", "RESERVED_MODELS", "Ranker", "ScoringModel", "best_index", "load_ranker"]
 
@@ -75,7 +75,7 @@ def load_ranker(name: str | None, backend: str = "llamacpp", threads: int = 1) -
             f"--rank-model {name}: SmolLM2-135M is reserved for the independent fluency measure; rank with "
             "another model (e.g. qwen2.5-coder-0.5b) or none"
         )
-    from talkdem.llm.registry import load_model
+    from talkdem.llm.interface.registry import load_model
 
     options = {"threads": threads} if backend == "llamacpp" else {}
     return Ranker(load_model(backend, name, **options))

@@ -53,7 +53,7 @@ class FluencyScorer:
     """Mean NLL per token of texts under one model, with a persistent cache (text hash -> [nll, tokens])."""
 
     model: Any
-    """A `talkdem.llm.base.LanguageModel` with log-likelihoods and a tokenizer."""
+    """A `talkdem.llm.interface.base.LanguageModel` with log-likelihoods and a tokenizer."""
     cache_file: Path
     context: str = CONTEXT
 
@@ -66,7 +66,7 @@ class FluencyScorer:
 
     @classmethod
     def default(cls, cache_file: Path | None = None, threads: int = 1) -> FluencyScorer:
-        from talkdem.llm.registry import load_model
+        from talkdem.llm.interface.registry import load_model
 
         model = load_model("llamacpp", FLUENCY_MODEL, threads=threads, n_ctx=512)
         return cls(model, cache_file or default_cache_file(model.identity.revision))
@@ -88,7 +88,7 @@ class FluencyScorer:
 
     def nll_per_token(self, texts: Sequence[str], progress: Callable[[int, int], None] | None = None) -> list[float]:
         """Mean negative log-likelihood per token of each text (nats), scoring only texts not cached."""
-        from talkdem.llm.requests import LoglikelihoodRequest
+        from talkdem.llm.interface.requests import LoglikelihoodRequest
 
         # in hash order, not text order: an interrupted run leaves a cache that is a random sample of every cell
         todo = sorted({t for t in texts if self._key(t) not in self._cache}, key=self._key)

@@ -97,7 +97,7 @@ def _describe(exc: BaseException) -> str:
 
 def _is_server_error(exc: BaseException) -> bool:
     # Looked up only if the served backend was imported: the CLI must not import backends to start.
-    module = sys.modules.get("talkdem.llm.openai_compat")
+    module = sys.modules.get("talkdem.llm.backends.openai_compat")
     return module is not None and isinstance(exc, module.EndpointError | module.LoglikelihoodUnsupportedError)
 
 

@@ -89,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _llm_generator(args: argparse.Namespace) -> Any:
     from builders.generation.llm import LLMGenerator
-    from talkdem.llm.registry import load_model
+    from talkdem.llm.interface.registry import load_model
 
     options: dict[str, Any] = {"base_url": args.base_url} if args.base_url else {}
     if args.threads is not None:

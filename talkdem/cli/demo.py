@@ -50,8 +50,8 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from talkdem.leaderboard import write_leaderboard
-    from talkdem.llm.default_model import DEFAULT_BACKEND
-    from talkdem.llm.registry import load_model
+    from talkdem.llm.interface.default_model import DEFAULT_BACKEND
+    from talkdem.llm.interface.registry import load_model
     from talkdem.paths import data_dir
     from talkdem.planner.saycan import SayCanConfig
     from talkdem.planner.strategies import load_strategy

@@ -19,7 +19,7 @@ def register(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from talkdem.llm.models import DEFAULT_MODEL, FAST_TEST_MODEL, MODELS, get_model, model_path, model_status
+    from talkdem.llm.interface.models import DEFAULT_MODEL, FAST_TEST_MODEL, MODELS, get_model, model_path, model_status
 
     if args.install:
         spec = get_model(args.install)

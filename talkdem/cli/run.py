@@ -14,7 +14,7 @@ from talkdem.sim.seam import DEFAULT_MAX_STEPS
 if TYPE_CHECKING:
     from talkdem.clarify import ClarifyMode
     from talkdem.instructions import Instruction
-    from talkdem.llm.base import LanguageModel
+    from talkdem.llm.interface.base import LanguageModel
     from talkdem.planner.react import ReActConfig
     from talkdem.planner.saycan import SayCanConfig
     from talkdem.planner.strategies import Strategy
@@ -30,7 +30,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--model", default="default", help="model name (`talkdem models`), path, model id or served model name"
     )
-    from talkdem.llm.registry import BACKENDS  # a light module: backends themselves load lazily
+    from talkdem.llm.interface.registry import BACKENDS  # a light module: backends themselves load lazily
     from talkdem.planner.strategies import STRATEGIES
 
     parser.add_argument("--backend", default="llamacpp", choices=BACKENDS.names())
@@ -93,45 +93,56 @@ def register(subparsers: Any) -> None:
         "(episodes are spread over them, each episode on one server)",
     )
     parser.add_argument(
+        "--model-arg",
+        action="append",
+        metavar="KEY=VALUE",
+        help="a backend constructor option, checked by the backend (e.g. n_ctx=2048 for llamacpp, "
+        "tokenizer=NAME or timeout=120 for openai; a bad key lists the backend's own); repeatable",
+    )
+    parser.add_argument(
         "--tokenizer",
-        help="openai backend, scoring planner: the served model's tokenizer (model name, GGUF file or local "
-        "Hugging Face tokenizer folder), so prompts split exactly as in process",
+        help="shorthand for --model-arg tokenizer=...: openai backend, scoring planner: the served model's "
+        "tokenizer (model name, GGUF file or local Hugging Face tokenizer folder), so prompts split exactly as in "
+        "process",
     )
     parser.add_argument(
         "--scoring-api",
         choices=["completions", "sglang"],
-        default="completions",
-        help="openai backend: /v1/completions with echoed log-probabilities (vLLM, llama-cpp-python) or SGLang's "
-        "/generate",
+        help="shorthand for --model-arg scoring_api=...: openai backend: /v1/completions with echoed "
+        "log-probabilities (vLLM, llama-cpp-python; the default) or SGLang's /generate",
     )
     parser.add_argument(
         "--prompt-format",
         choices=["ids", "text"],
-        default="ids",
-        help="completions scoring: token-id prompts, one request per step (vLLM), or one string per candidate "
-        "(llama-cpp-python's server)",
+        help="shorthand for --model-arg prompt_format=...: completions scoring: token-id prompts, one request per "
+        "step (vLLM; the default), or one string per candidate (llama-cpp-python's server)",
     )
     parser.add_argument(
         "--bos",
         choices=["model", "always", "never"],
-        default="model",
-        help="the tokenizer's BOS rule (model: its own), for a server started with another rule",
+        help="shorthand for --model-arg add_bos=...: the served tokenizer's BOS rule (model: its own, the "
+        "default), for a server started with another rule",
     )
     parser.add_argument(
         "--concurrency",
         type=positive_int,
         default=1,
         metavar="N",
-        help="openai backend: N episodes stepping at once (one request per step each)",
+        help="openai backend: N episodes stepping at once (one client and one request per step each)",
     )
     parser.add_argument(
         "--timeout",
         type=positive_int,
         metavar="SECONDS",
-        help="openai backend: seconds to wait for one answer (default 60; a large model's step on vLLM may need more)",
+        help="shorthand for --model-arg timeout=...: openai backend: seconds to wait for one answer (default 60; "
+        "a large model's step on vLLM may need more)",
     )
     parser.add_argument("--shard", metavar="I/N", help="run only shard I of N (merge the shards with `talkdem merge`)")
-    parser.add_argument("--threads", type=positive_int, help="hf / llamacpp backends: CPU threads")
+    parser.add_argument(
+        "--threads",
+        type=positive_int,
+        help="shorthand for --model-arg threads=...: hf / llamacpp backends: CPU threads",
+    )
     parser.add_argument(
         "--log-top", type=non_negative_int, default=0, metavar="N", help="score every skill and log the best N per step"
     )
@@ -173,7 +184,8 @@ class RunPlan:
     extra: dict[str, object]
     """The selection (conditions, sample size, shard, threads) recorded in the header."""
     options: dict[str, Any]
-    """The backend's constructor options."""
+    """The backend's constructor options (`--model-arg`, the flags that are shorthand for one, and what the planner
+    needs), checked against the backend's own declaration."""
     urls: list[str | None]
     config: SayCanConfig | ReActConfig
     strategy_options: dict[str, object]
@@ -203,44 +215,11 @@ def plan_run(args: argparse.Namespace) -> RunPlan:
                 f"split it into at most {selected} shard(s)"
             )
         extra["shard"] = str(shard)
-    options: dict[str, Any] = {}
-    served_options = (
-        args.tokenizer,
-        args.scoring_api != "completions",
-        args.prompt_format != "ids",
-        args.bos != "model",
-    )
-    if args.backend != "openai" and (args.base_url or any(served_options) or args.concurrency > 1 or args.timeout):
-        raise ValueError(
-            "--base-url, --tokenizer, --scoring-api, --prompt-format, --bos, --timeout and --concurrency are for "
-            "--backend openai"
-        )
-    if args.threads and args.backend not in ("hf", "llamacpp"):
-        raise ValueError(f"--threads applies to the hf and llamacpp backends, not {args.backend}")
-    if args.backend == "openai":
-        if args.timeout:
-            options["timeout"] = float(args.timeout)
-        if args.tokenizer:
-            options.update(tokenizer=args.tokenizer, scoring_api=args.scoring_api, prompt_format=args.prompt_format)
-            options["add_bos"] = {"model": None, "always": True, "never": False}[args.bos]
-        elif args.planner in ("scoring", "react") and _local_tokenizer(args.model):
-            # `--model` names a local model (catalog name, GGUF, tokenizer folder): its tokenizer is the served one's
-            options.update(tokenizer=args.model, scoring_api=args.scoring_api, prompt_format=args.prompt_format)
-            options["add_bos"] = {"model": None, "always": True, "never": False}[args.bos]
-        elif args.planner == "scoring":  # react without a tokenizer writes and parses its actions
-            raise ValueError(
-                "scoring through a server needs the served model's tokenizer: give --tokenizer "
-                "(a model name, GGUF file or local tokenizer folder), or use --planner generative"
-            )
-    if args.planner == "react" and args.backend in ("hf", "llamacpp"):
-        # The thought continues the transcript as plain text: wrapped in a chat template it would share no
-        # prefix with the scoring context, and every step would run the whole prompt twice.
-        options["chat_template"] = False
-    if args.threads:
-        options["threads"] = args.threads
+    options = _backend_options(args)
+    if "threads" in options:
         # llama.cpp's kernels split work by thread count, which can move scores in the last digits: the
         # header says how the run was computed (the last sitting's count, when a resume changed it).
-        extra["threads"] = args.threads
+        extra["threads"] = options["threads"]
     urls: list[str | None] = list(args.base_url or [None])
     if len(urls) > args.concurrency:
         raise ValueError(
@@ -296,14 +275,14 @@ StrategyLoader = Callable[..., "Strategy"]
 
 
 def run(args: argparse.Namespace, *, load: ModelLoader | None = None, strategies: StrategyLoader | None = None) -> int:
-    from talkdem.llm.registry import load_model
+    from talkdem.llm.interface.registry import load_model
     from talkdem.planner.strategies import load_strategy
     from talkdem.runs.runner import run_episodes
 
     plan = plan_run(args)
     load = load or load_model
     if args.cache is not None:
-        from talkdem.llm.cache import open_cache
+        from talkdem.llm.scoring.cache import open_cache
 
         open_cache(args.cache).close()  # a bad --cache file fails now, not after the model has loaded
     clients = []
@@ -311,7 +290,7 @@ def run(args: argparse.Namespace, *, load: ModelLoader | None = None, strategies
         url = plan.urls[slot % len(plan.urls)]
         clients.append(load(args.backend, args.model, **plan.options, **({"base_url": url} if url else {})))
     if args.cache is not None:
-        from talkdem.llm.cache import CachedLM
+        from talkdem.llm.scoring.cache import CachedLM
 
         clients = [CachedLM(client, args.cache) for client in clients]
     model = clients[0]
@@ -359,8 +338,74 @@ def _strategy_args(args: argparse.Namespace) -> dict[str, object]:
     return options
 
 
+_SHORTHANDS = {
+    "timeout": ("--timeout", "timeout"),
+    "tokenizer": ("--tokenizer", "tokenizer"),
+    "scoring_api": ("--scoring-api", "scoring_api"),
+    "prompt_format": ("--prompt-format", "prompt_format"),
+    "bos": ("--bos", "add_bos"),
+    "threads": ("--threads", "threads"),
+}
+"""`talkdem run` flags that set one backend option: {namespace attribute: (flag, option)}."""
+_HEADER_ORDER = ("timeout", "tokenizer", "scoring_api", "prompt_format", "add_bos", "chat_template", "threads")
+"""The order the options of the older flags were always recorded in (headers written before `--model-arg` list
+them so); other options follow in the order given."""
+_SCORING_OPTIONS = {"scoring_api": "completions", "prompt_format": "ids", "add_bos": None}
+"""The openai backend's options that shape scoring requests, with their defaults: they go with a tokenizer."""
+
+
+def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The backend's constructor options from `--model-arg` and its shorthand flags, each checked by the backend's
+    own declaration, and what the planner needs of the backend."""
+    from talkdem.llm.interface.registry import backend_options, backends_with_option, model_args
+
+    backend = args.backend
+    if backend != "openai" and (args.base_url or args.concurrency > 1):
+        # These two are about the run (one client per server, episodes at once), not a backend option.
+        raise ValueError("--base-url and --concurrency are for --backend openai")
+    given = model_args(backend, vars(args).get("model_arg") or [])
+    declared = {option.name: option for option in backend_options(backend)}
+    for attribute, (flag, name) in _SHORTHANDS.items():
+        value = vars(args).get(attribute)
+        if value is None:
+            continue
+        if name not in declared:
+            owners = backends_with_option(name)
+            plural = "backend" if len(owners) == 1 else "backends"
+            raise ValueError(f"{flag} applies to the {' and '.join(owners)} {plural}, not {backend}")
+        (parsed,) = model_args(backend, [f"{name}={value}"]).values()
+        if name in given and given[name] != parsed:
+            shown = declared[name].text(given[name])
+            raise ValueError(f"{flag} {value} and --model-arg {name}={shown} disagree: give one")
+        given[name] = parsed
+    options: dict[str, Any] = dict(given)
+    if backend == "openai":
+        if "tokenizer" not in options and args.planner in ("scoring", "react") and _local_tokenizer(args.model):
+            # `--model` names a local model (catalog name, GGUF, tokenizer folder): its tokenizer is the served one's
+            options["tokenizer"] = args.model
+        if "tokenizer" in options:
+            for name, default in _SCORING_OPTIONS.items():
+                options.setdefault(name, default)
+        else:
+            if args.planner == "scoring":  # react without a tokenizer writes and parses its actions
+                raise ValueError(
+                    "scoring through a server needs the served model's tokenizer: give --tokenizer "
+                    "(a model name, GGUF file or local tokenizer folder), or use --planner generative"
+                )
+            for name in _SCORING_OPTIONS:  # no tokenizer, no scoring requests: as these options always were
+                options.pop(name, None)
+    if args.planner == "react" and backend in ("hf", "llamacpp"):
+        # The thought continues the transcript as plain text: wrapped in a chat template it would share no
+        # prefix with the scoring context, and every step would run the whole prompt twice.
+        if options.get("chat_template", False):
+            raise ValueError("--planner react continues the transcript as plain text: drop model arg chat_template")
+        options["chat_template"] = False
+    first = [name for name in _HEADER_ORDER if name in options]
+    return {name: options[name] for name in [*first, *(n for n in options if n not in first)]}
+
+
 def _local_tokenizer(model: str) -> bool:
-    from talkdem.llm.models import get_model
+    from talkdem.llm.interface.models import get_model
 
     return get_model(model) is not None or Path(model).expanduser().exists()
 
@@ -372,8 +417,8 @@ def _backend_args(args: argparse.Namespace, options: dict[str, Any]) -> dict[str
     for name, value in options.items():
         if name == "tokenizer" and isinstance(value, str):
             recorded[name] = Path(value).name if Path(value).expanduser().exists() else value
-        elif name == "add_bos":
-            recorded["bos"] = args.bos
+        elif name == "add_bos":  # recorded as the flag `--bos` names it (model, always, never), as it always was
+            recorded["bos"] = {None: "model", True: "always", False: "never"}[value]
         elif isinstance(value, str | int | float | bool):
             recorded[name] = value
     if args.concurrency > 1:

@@ -46,7 +46,7 @@ def model_dtype(model_name: str, config: dict[str, Any], revision: str = "") -> 
     """The weights' precision as far as the run knows it: a GGUF quantisation from the file name
     (`Q4_1`), the catalog's quantisation for a short name whose file hash is the run's (`qwen2.5-coder-0.5b`:
     Q4_K_M), a configured dtype, else `unknown`."""
-    from talkdem.llm.models import get_model
+    from talkdem.llm.interface.models import get_model
 
     found = _QUANT.search(model_name)
     if found:

@@ -22,8 +22,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
 
-from talkdem.llm.base import LanguageModel
-from talkdem.llm.requests import GenerateRequest
+from talkdem.llm.interface.base import LanguageModel
+from talkdem.llm.interface.requests import GenerateRequest
 
 __all__ = ["MAX_NEW_TOKENS", "Generated", "GenerationStatus", "StepDecoding", "clean_generation", "cut_loop"]
 

@@ -34,8 +34,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
 from talkdem.clarify.questions import is_question, question_texts
-from talkdem.llm.base import LanguageModel
-from talkdem.llm.requests import GenerateRequest
+from talkdem.llm.interface.base import LanguageModel
+from talkdem.llm.interface.requests import GenerateRequest
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration
 from talkdem.planner.saycan import PlanResult, check_clarify

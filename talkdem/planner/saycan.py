@@ -33,8 +33,8 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
 from talkdem.clarify.questions import is_question, question_texts
-from talkdem.llm.base import LanguageModel
-from talkdem.llm.requests import GenerateRequest
+from talkdem.llm.interface.base import LanguageModel
+from talkdem.llm.interface.requests import GenerateRequest
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration, append_exchange, append_step, build_prompt, clarify_intro
 from talkdem.planner.strategies import PlannerInput

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from talkdem.instructions import MemoryItem, load_memory_bank
-from talkdem.llm.base import LanguageModel
+from talkdem.llm.interface.base import LanguageModel
 from talkdem.planner.decoding import MAX_NEW_TOKENS, StepDecoding
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import EXAMPLE_PREFIX, HUMAN_PREFIX, Demonstration, prompt_head, prompt_text

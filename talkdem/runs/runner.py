@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from talkdem.instructions import Instruction
-from talkdem.llm.base import LanguageModel
+from talkdem.llm.interface.base import LanguageModel
 from talkdem.planner.react import ReActConfig, ReActPlanner
 from talkdem.planner.saycan import PlanResult, SayCanConfig, SayCanPlanner
 from talkdem.planner.strategies import PlannerInput, Strategy

@@ -38,7 +38,7 @@ class ShardWorker:
         """Models loaded by this worker (once each, whatever the number of jobs)."""
 
     def _load(self, backend: str, model: str, **options: Any) -> Any:
-        from talkdem.llm.registry import load_model
+        from talkdem.llm.interface.registry import load_model
 
         identity = repr((backend, model, sorted(options.items())))
         # One run asks for one client per `--concurrency` slot: each slot keeps a client of its own.

@@ -8,6 +8,7 @@ one `SweepRun` per (model, strategy), each an ordinary `talkdem run` directory u
         backend: openai                  # default llamacpp
         label: qwen7b-sglang             # the run folder's prefix (default: the model's file or name)
         args: {base_url: [http://10.0.0.5:30000], tokenizer: Qwen/Qwen2.5-7B-Instruct, scoring_api: sglang}
+        model_args: {timeout: 120}       # the backend's own constructor options (`talkdem run --model-arg`)
         ray: {num_cpus: 1}               # the resources of one Ray actor of this model
     strategies: [vanilla, {name: care, args: {care_order: best_last}}]
     conditions: [clean, intrusion:3]     # default: all 16
@@ -17,7 +18,9 @@ one `SweepRun` per (model, strategy), each an ordinary `talkdem run` directory u
 Every value is validated by `talkdem run`'s own parser and argument checks (`plan_run`), before anything runs:
 the keys of `args`, `planner` and a strategy's `args` are `talkdem run`'s option names (`base_url` for
 `--base-url`), so a setting means exactly what the flag means, and a bad one is one line naming the file, the
-key and what was expected.
+key and what was expected. A model's `model_args` are its backend's constructor options, checked by the backend's
+own declaration (`talkdem.llm.interface.options`) and passed as `--model-arg KEY=VALUE`; `threads` is not one of them
+here, since the executor gives every worker its share of the CPUs (`talkdem sweep --threads`).
 """
 
 from __future__ import annotations
@@ -60,7 +63,7 @@ STRATEGY_ARGS = ("care_order", "care_dedupe", "generation_tokens", "generation_p
 """`talkdem run` options a strategy entry's `args` may set."""
 
 _TOP_KEYS = ("out", "models", "strategies", "conditions", "tasks", "planner", "shards")
-_MODEL_KEYS = ("model", "backend", "label", "args", "ray")
+_MODEL_KEYS = ("model", "backend", "label", "args", "model_args", "ray")
 _STRATEGY_KEYS = ("name", "label", "args")
 _RAY_KEYS = ("num_cpus", "num_gpus")
 _LABEL = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
@@ -256,7 +259,7 @@ class _Model:
 
 
 def _models(path: Path, value: object) -> list[_Model]:
-    from talkdem.llm.registry import BACKENDS
+    from talkdem.llm.interface.registry import BACKENDS
 
     if not isinstance(value, list) or not value:
         raise _fail(path, "models", f"expected a non-empty list of models, got {_kind(value)}")
@@ -274,6 +277,7 @@ def _models(path: Path, value: object) -> list[_Model]:
         default_label = Path(model).name.removesuffix(".gguf")
         label = _label(path, f"{key}.label", entry.get("label", default_label))
         argv = _flags(path, f"{key}.args.", _mapping(path, f"{key}.args", entry.get("args", {})), _same(MODEL_ARGS))
+        argv += _model_args(path, f"{key}.model_args", str(backend), entry.get("model_args", {}))
         ray = _mapping(path, f"{key}.ray", entry.get("ray", {}))
         _unknown_keys(path, f"{key}.ray.", ray, _RAY_KEYS)
         resources: dict[str, float] = {}
@@ -285,6 +289,26 @@ def _models(path: Path, value: object) -> list[_Model]:
             _Model(index, model, str(backend), label, ("--model", model, "--backend", backend, *argv), resources)
         )
     return models
+
+
+def _model_args(path: Path, key: str, backend: str, value: object) -> list[str]:
+    """`--model-arg KEY=VALUE` arguments for a model's `model_args` mapping, each value checked by the backend."""
+    from talkdem.llm.interface.registry import model_args
+
+    argv: list[str] = []
+    for name, setting in _mapping(path, key, value).items():
+        where = f"{key}.{name}"
+        if name == "threads":
+            raise _fail(path, where, "set by the executor (`talkdem sweep --threads`, each worker its share of CPUs)")
+        if isinstance(setting, list | dict) or setting is None:
+            raise _fail(path, where, f"expected a value, got {_kind(setting)}")
+        text = ("true" if setting else "false") if isinstance(setting, bool) else str(setting)
+        try:
+            model_args(backend, [f"{name}={text}"])
+        except ValueError as error:
+            raise _fail(path, where, str(error)) from None
+        argv += ["--model-arg", f"{name}={text}"]
+    return argv
 
 
 def _same(names: Sequence[str]) -> dict[str, str]:

@@ -143,7 +143,7 @@ def _settled(target: Path, job_ids: Sequence[str], run: SweepRun, wanted: Callab
 
 
 def _same_model(recorded: str, model: str) -> bool:
-    from talkdem.llm.models import get_model
+    from talkdem.llm.interface.models import get_model
 
     spec = get_model(model)
     return recorded == (spec.name if spec is not None else model) or Path(recorded).name == Path(model).name

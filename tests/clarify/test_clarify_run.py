@@ -11,7 +11,7 @@ from clarify_lm import ClarifyingLM
 
 from talkdem.clarify import Slot, oracle_answer
 from talkdem.cli import main
-from talkdem.llm import registry
+from talkdem.llm.interface import registry
 from talkdem.runs import read_episodes, read_header
 from talkdem.tasks import get_task
 

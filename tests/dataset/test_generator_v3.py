@@ -24,7 +24,7 @@ from builders.lexicon import STATE_WORDS, TASK_VERBS, find_mentions, word_spans
 from builders.markers.measures import sentences
 from builders.markers.variety import added_sentences, article_errors
 from builders.verification import verify
-from talkdem.llm.requests import LoglikelihoodRequest
+from talkdem.llm.interface.requests import LoglikelihoodRequest
 from talkdem.tasks import Task, load_tasks
 
 UNNAMED = ("trial_T20190907_215139_316260", "trial_T20190909_005222_878222", "trial_T20190911_120324_851568")

@@ -10,7 +10,7 @@ import pytest
 from builders.build import build_unit
 from builders.generation import GenerationRequest
 from builders.generation.llm import LLMGenerator
-from talkdem.llm.hf import HFCausalLM
+from talkdem.llm.backends.hf import HFCausalLM
 from talkdem.tasks import get_task
 
 POTATO = "trial_T20190909_152050_792044"

@@ -10,7 +10,7 @@ import pytest
 import talk_dem
 from builders.generation import GenerationRequest
 from builders.generation.llm import PROMPTS_DIR, LLMGenerator, room_of, scene_list
-from talkdem.llm.requests import GenerateRequest
+from talkdem.llm.interface.requests import GenerateRequest
 from talkdem.tasks import get_task
 
 POTATO = "trial_T20190909_152050_792044"

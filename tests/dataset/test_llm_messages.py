@@ -29,7 +29,7 @@ from builders.generation.llm import (
 )
 from builders.generation.llm_sample import pick_tasks, run_sample, summarize
 from builders.generation.llm_stats import card_section, generation_stats, sample_card_section
-from talkdem.llm.requests import GenerateRequest
+from talkdem.llm.interface.requests import GenerateRequest
 from talkdem.tasks import get_task, load_tasks
 
 POTATO = "trial_T20190909_152050_792044"

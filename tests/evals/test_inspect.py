@@ -79,7 +79,7 @@ def _free_port() -> int:
 
 @pytest.fixture
 def llama_server(tmp_path: Path) -> Iterator[str]:
-    from talkdem.llm.models import FAST_TEST_MODEL, model_path
+    from talkdem.llm.interface.models import FAST_TEST_MODEL, model_path
 
     port, log = _free_port(), tmp_path / "server.log"
     command = [sys.executable, "-m", "llama_cpp.server", "--model", str(model_path(FAST_TEST_MODEL))]

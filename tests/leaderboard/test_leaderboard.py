@@ -10,7 +10,7 @@ import pytest
 
 from talkdem.cli import main
 from talkdem.leaderboard import RESULTS_SCHEMA, model_dtype, rank_records, read_results, results_record
-from talkdem.llm.models import get_model
+from talkdem.llm.interface.models import get_model
 from talkdem.report import score_runs
 from talkdem.schema import PATTERN_CONFIGS
 

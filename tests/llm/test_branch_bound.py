@@ -18,9 +18,9 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from talkdem.llm.base import LanguageModel, ModelIdentity
-from talkdem.llm.branch_bound import best_continuation
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.scoring.branch_bound import best_continuation
 from talkdem.planner import PlannerInput, SayCanConfig, SayCanPlanner
 from talkdem.runs.sampling import select_episodes
 from talkdem.schema import CONDITIONS
@@ -148,7 +148,7 @@ def _check_choices(model: object, steps: list[tuple[str, list[str], list[float]]
 
 @pytest.fixture(scope="module")
 def smollm_llama() -> object:
-    from talkdem.llm.llamacpp import LlamaCppLM
+    from talkdem.llm.backends.llamacpp import LlamaCppLM
 
     return LlamaCppLM("smollm2-135m-instruct", threads=2)
 
@@ -156,7 +156,7 @@ def smollm_llama() -> object:
 @pytest.fixture(scope="module")
 def smollm_llama_other() -> object:
     """The same model on one thread with 7-token batches: other splits of the same computation."""
-    from talkdem.llm.llamacpp import LlamaCppLM
+    from talkdem.llm.backends.llamacpp import LlamaCppLM
 
     return LlamaCppLM("smollm2-135m-instruct", threads=1, n_batch=7)
 
@@ -183,7 +183,7 @@ def test_llamacpp_branch_and_bound_picks_the_full_scoring_skill_over_many_steps(
 
 @pytest.mark.slow
 def test_hf_branch_and_bound_picks_the_full_scoring_skill() -> None:
-    from talkdem.llm.hf import HFCausalLM
+    from talkdem.llm.backends.hf import HFCausalLM
 
     model = HFCausalLM("smollm2-135m-instruct", threads=2)
     steps = _planner_steps(model, tasks=1, max_steps=8)
@@ -194,7 +194,7 @@ def test_hf_branch_and_bound_picks_the_full_scoring_skill() -> None:
 
 @pytest.mark.slow
 def test_default_model_branch_and_bound_picks_the_full_scoring_skill() -> None:
-    from talkdem.llm.llamacpp import LlamaCppLM
+    from talkdem.llm.backends.llamacpp import LlamaCppLM
 
     model = LlamaCppLM("default", threads=2)
     steps = _planner_steps(model, tasks=1, max_steps=3)
@@ -209,7 +209,7 @@ def test_planner_uses_branch_and_bound_only_for_sum_scoring_without_logging() ->
             self.searched = self.scored = 0
 
         def best_continuation(self, context: str, continuations: Sequence[str]) -> object:
-            from talkdem.llm.branch_bound import BestContinuation
+            from talkdem.llm.scoring.branch_bound import BestContinuation
 
             self.searched += 1
             return BestContinuation(continuations.index(" done"), -1.0, 1, 1)

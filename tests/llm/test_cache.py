@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from talkdem.llm.base import LanguageModel, ModelIdentity
-from talkdem.llm.cache import CachedLM, cache_key
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.scoring.cache import CachedLM, cache_key
 
 
 class CountingLM(LanguageModel):

@@ -7,8 +7,8 @@ from typing import Any
 
 import pytest
 
-from talkdem.llm.hf import HFCausalLM
-from talkdem.llm.requests import GenerateRequest
+from talkdem.llm.backends.hf import HFCausalLM
+from talkdem.llm.interface.requests import GenerateRequest
 
 
 class TemplateError(Exception):

@@ -12,7 +12,12 @@ from typing import Any
 
 import pytest
 
-from talkdem.llm.served_scoring import ScoringProtocolError, ScoringRequest, read_completions_choice, read_sglang_item
+from talkdem.llm.scoring.served_scoring import (
+    ScoringProtocolError,
+    ScoringRequest,
+    read_completions_choice,
+    read_sglang_item,
+)
 
 # A BOS model's echo (BOS not echoed, the generated token last), as in test_served_scoring.
 REQUEST = ScoringRequest((1, 5, 6), (8, 9), "", " x y", True)
@@ -77,8 +82,8 @@ def latin1_server() -> Iterator[str]:
 
 
 def test_an_answer_that_is_not_utf8_names_the_url(latin1_server: str) -> None:
-    from talkdem.llm.openai_compat import EndpointError, OpenAICompatibleLM
-    from talkdem.llm.requests import GenerateRequest
+    from talkdem.llm.backends.openai_compat import EndpointError, OpenAICompatibleLM
+    from talkdem.llm.interface.requests import GenerateRequest
 
     model = OpenAICompatibleLM("m", base_url=latin1_server, max_retries=1, backoff=0)
     with pytest.raises(EndpointError) as refused:

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from scipy.stats import spearmanr
 
-from talkdem.llm.hf import HFCausalLM
-from talkdem.llm.llamacpp import LlamaCppLM
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.backends.hf import HFCausalLM
+from talkdem.llm.backends.llamacpp import LlamaCppLM
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
 from talkdem.planner import PlannerInput, SayCanPlanner
 from talkdem.planner.prompt import append_step
 from talkdem.skills import vocabulary

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from talkdem.llm.models import (
+from talkdem.llm.interface.models import (
     DEFAULT_MODEL,
     MODELS,
     ModelIntegrityError,

@@ -19,9 +19,9 @@ from typing import Any
 
 import pytest
 
-from talkdem.llm.models import FAST_TEST_MODEL, model_path
-from talkdem.llm.openai_compat import EndpointError, LoglikelihoodUnsupportedError, OpenAICompatibleLM
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.backends.openai_compat import EndpointError, LoglikelihoodUnsupportedError, OpenAICompatibleLM
+from talkdem.llm.interface.models import FAST_TEST_MODEL, model_path
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
 from talkdem.planner import PlannerInput, SayCanConfig, SayCanPlanner
 from talkdem.skills import vocabulary
 from talkdem.tasks import load_tasks

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from talkdem.llm.hf import HFCausalLM
-from talkdem.llm.prefix_scorer import PrefixCachedScorer
-from talkdem.llm.requests import LoglikelihoodRequest
+from talkdem.llm.backends.hf import HFCausalLM
+from talkdem.llm.interface.requests import LoglikelihoodRequest
+from talkdem.llm.scoring.prefix_scorer import PrefixCachedScorer
 from talkdem.skills import vocabulary
 
 PROMPT = (

@@ -24,9 +24,9 @@ from typing import Any
 
 import pytest
 
-from talkdem.llm.models import FAST_TEST_MODEL, model_path
-from talkdem.llm.openai_compat import OpenAICompatibleLM
-from talkdem.llm.served_scoring import ScoringProtocolError, ScoringRequest, read_completions_choice
+from talkdem.llm.backends.openai_compat import OpenAICompatibleLM
+from talkdem.llm.interface.models import FAST_TEST_MODEL, model_path
+from talkdem.llm.scoring.served_scoring import ScoringProtocolError, ScoringRequest, read_completions_choice
 from talkdem.planner import PlannerInput, SayCanConfig, SayCanPlanner
 from talkdem.planner.prompt import append_step
 from talkdem.tasks import load_tasks
@@ -239,7 +239,7 @@ def bos_server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
 
 @pytest.mark.slow
 def test_real_server_scores_agree_with_in_process_llamacpp_over_saycan_steps(bos_server: str) -> None:
-    from talkdem.llm.llamacpp import LlamaCppLM
+    from talkdem.llm.backends.llamacpp import LlamaCppLM
 
     local = LlamaCppLM(FAST_TEST_MODEL, threads=2)
     served = OpenAICompatibleLM(

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from talkdem.llm.token_trie import TokenTrie
+from talkdem.llm.scoring.token_trie import TokenTrie
 
 
 def test_trie_shares_common_beginnings() -> None:

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 
 import pytest
 
-from talkdem.llm.requests import LoglikelihoodRequest
-from talkdem.llm.vllm_backend import VLLMLM, plan_scoring, sum_prompt_logprobs
+from talkdem.llm.backends.vllm_backend import VLLMLM, plan_scoring, sum_prompt_logprobs
+from talkdem.llm.interface.requests import LoglikelihoodRequest
 
 
 @dataclass
@@ -66,7 +66,7 @@ def test_empty_continuations_are_refused() -> None:
 def test_a_json_schema_becomes_the_structured_outputs_of_either_vllm_generation() -> None:
     from types import SimpleNamespace
 
-    from talkdem.llm.vllm_backend import guided_json_options
+    from talkdem.llm.backends.vllm_backend import guided_json_options
 
     @dataclass
     class Params:

@@ -13,7 +13,7 @@ from talkdem.paths import repo_root
 
 
 def test_the_missing_extra_names_an_install_that_works(monkeypatch: pytest.MonkeyPatch) -> None:
-    from talkdem.llm.llamacpp import LlamaCppLM
+    from talkdem.llm.backends.llamacpp import LlamaCppLM
 
     monkeypatch.setitem(sys.modules, "llama_cpp", None)  # import llama_cpp now raises ImportError
     with pytest.raises(ImportError) as refused:

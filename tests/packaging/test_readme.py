@@ -141,7 +141,7 @@ def _free_port() -> int:
 @pytest.fixture(scope="module")
 def server(wheel: Wheel) -> Iterator[str]:
     """llama-cpp-python's OpenAI-compatible server on SmolLM2 (the `llamacpp` extra), for the served command."""
-    from talkdem.llm.models import FAST_TEST_MODEL, model_path
+    from talkdem.llm.interface.models import FAST_TEST_MODEL, model_path
 
     port = _free_port()
     command = [

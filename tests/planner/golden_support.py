@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scripted_lm import ScriptedLM
 
-from talkdem.llm.requests import GenerateRequest
+from talkdem.llm.interface.requests import GenerateRequest
 from talkdem.runs.sampling import select_episodes
 from talkdem.schema import parse_conditions
 

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from talkdem.llm.base import LanguageModel, ModelIdentity
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
 
 
 class ScriptedLM(LanguageModel):

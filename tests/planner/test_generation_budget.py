@@ -12,7 +12,7 @@ from talkdem.planner.strategies import load_strategy
 
 @pytest.mark.slow
 def test_no_answer_or_rewrite_is_cut_by_the_budget_on_the_longest_instructions() -> None:
-    from talkdem.llm.registry import load_model
+    from talkdem.llm.interface.registry import load_model
 
     model = load_model("llamacpp", "default", threads=1)
     # The three longest instructions of the benchmark (all topic drift, level 3), by the model's own tokens.

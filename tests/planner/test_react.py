@@ -5,8 +5,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from talkdem.llm.base import LanguageModel, ModelIdentity
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
 from talkdem.planner import PlannerInput
 from talkdem.planner.react import REACT_HEADER, ReActConfig, ReActPlanner
 from talkdem.sim import FailureKind

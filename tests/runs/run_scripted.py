@@ -15,7 +15,7 @@ sys.path.insert(0, str(Path(__file__).parent.parent / "planner"))
 from scripted_lm import ScriptedLM
 
 from talkdem.cli import main
-from talkdem.llm import registry
+from talkdem.llm.interface import registry
 
 DELAY = float(sys.argv[1])
 

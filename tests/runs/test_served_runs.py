@@ -20,7 +20,7 @@ from typing import Any
 import pytest
 
 from talkdem.cli import main
-from talkdem.llm.models import FAST_TEST_MODEL
+from talkdem.llm.interface.models import FAST_TEST_MODEL
 from talkdem.runs.store import read_episodes, read_header, run_progress
 
 SERVER = Path(__file__).parent / "wire_server.py"

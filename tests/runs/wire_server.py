@@ -21,7 +21,7 @@ from typing import Any
 
 from llama_cpp import Llama
 
-from talkdem.llm.models import FAST_TEST_MODEL, model_path
+from talkdem.llm.interface.models import FAST_TEST_MODEL, model_path
 
 SCRIPT = ["find an apple", "pick up the apple", "done"]
 VOCAB: Any = None

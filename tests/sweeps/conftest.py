@@ -8,7 +8,7 @@ sys.path.insert(0, str(Path(__file__).parent.parent / "planner"))
 
 from scripted_lm import ScriptedLM
 
-from talkdem.llm import registry
+from talkdem.llm.interface import registry
 
 
 class _Scripted(ScriptedLM):

@@ -76,6 +76,37 @@ def test_a_bad_spec_is_one_line_naming_the_key(
     assert re.search(expected, error), error
 
 
+MODEL_ARGS = "  - smollm2-135m-instruct\n"
+
+
+@pytest.mark.parametrize(
+    ("model_args", "expected"),
+    [
+        ("{n_ctx: 0}", r"models\[0\]\.model_args\.n_ctx: model arg n_ctx='0': the llamacpp backend's 'n_ctx' takes"),
+        ("{tokenizer: x}", r"models\[0\]\.model_args\.tokenizer: .*the llamacpp backend has no such option"),
+        ("{threads: 2}", r"models\[0\]\.model_args\.threads: set by the executor"),
+        ("{n_ctx: [1]}", r"models\[0\]\.model_args\.n_ctx: expected a value, got a list"),
+        ("[n_ctx]", r"models\[0\]\.model_args: expected a mapping"),
+    ],
+)
+def test_a_bad_model_arg_names_its_key(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], model_args: str, expected: str
+) -> None:
+    text = GOOD.replace(MODEL_ARGS, f"  - model: smollm2-135m-instruct\n    model_args: {model_args}\n")
+    assert re.search(expected, _refused(tmp_path, text, capsys))
+
+
+def test_model_args_reach_the_run_as_the_backend_parsed_them(tmp_path: Path) -> None:
+    text = GOOD.replace(
+        MODEL_ARGS, "  - model: smollm2-135m-instruct\n    model_args: {n_ctx: 2048, f32_kv_cache: false}\n"
+    )
+    text = text.replace("concurrency: 2}", "concurrency: 2}\n    model_args: {timeout: 120, endpoint: auto}")
+    spec = load_sweep(_spec(tmp_path, text))
+    assert spec.runs[0].argv[4:8] == ("--model-arg", "n_ctx=2048", "--model-arg", "f32_kv_cache=false")
+    assert "--model-arg" in spec.runs[2].argv and "timeout=120" in spec.runs[2].argv
+    assert "endpoint=auto" in spec.runs[2].argv
+
+
 def test_a_strategy_flag_of_another_strategy_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     error = _refused(tmp_path, GOOD.replace("[vanilla,", "[{name: vanilla, args: {care_dedupe: true}},"), capsys)
     assert "strategies[0]" in error and "apply to --strategy care, not vanilla" in error

@@ -3,8 +3,9 @@ the in-process backends make, so a served run scores exactly the tokens a local 
 
 Two sources, both local (nothing is downloaded):
 - a GGUF file or a catalog model name (`talkdem models`): the file's own vocabulary through llama.cpp with
-  `vocab_only` (no weights are loaded), tokenized as `talkdem.llm.llamacpp` does;
-- a folder with a Hugging Face tokenizer (`tokenizer.json`, ...): tokenized as `talkdem.llm.hf` does.
+  `vocab_only` (no weights are loaded), split by `GGUFTokenSplit` as `talkdem.llm.backends.llamacpp` splits;
+- a folder with a Hugging Face tokenizer (`tokenizer.json`, ...): split by `HFTokenSplit` as `talkdem.llm.backends.hf`
+  splits.
 
 The BOS rule is the model's own (GGUF metadata `tokenizer.ggml.add_bos_token`; the HF tokenizer's
 `add_bos_token`); `add_bos` overrides it for a server started with another rule.
@@ -16,9 +17,10 @@ import contextlib
 import functools
 import hashlib
 import os
-import threading
 from pathlib import Path
 from typing import Any, Protocol
+
+from talkdem.llm.backends.tokenizing import GGUFTokenSplit, HFTokenSplit
 
 __all__ = ["ServedTokenizer", "load_tokenizer"]
 
@@ -41,7 +43,7 @@ class ServedTokenizer(Protocol):
         """The bytes of one token (for checking what a server echoes)."""
 
 
-class _GGUFTokenizer:
+class _GGUFTokenizer(GGUFTokenSplit):
     def __init__(self, path: Path, name: str, revision: str, add_bos: bool | None) -> None:
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
         from llama_cpp import Llama
@@ -53,60 +55,29 @@ class _GGUFTokenizer:
         except ImportError:
             quiet = contextlib.nullcontext()
         with quiet:
-            self._llm: Any = Llama(model_path=str(path), vocab_only=True, verbose=False)
-        self._lock = threading.Lock()  # one tokenizer serves every client thread of a concurrent run
+            llm: Any = Llama(model_path=str(path), vocab_only=True, verbose=False)
+        super().__init__(llm, add_bos)
         self.name, self.revision = name, revision
-        own_rule = self._llm.tokenize(b"a", add_bos=True, special=False)[:1] == [self._llm.token_bos()]
-        use_bos = own_rule if add_bos is None else add_bos
-        self.bos_id: int | None = int(self._llm.token_bos()) if use_bos else None
-
-    def encode(self, text: str) -> list[int]:
-        with self._lock:
-            ids: list[int] = self._llm.tokenize(text.encode(), add_bos=False, special=False)
-        return ids
-
-    def context_ids(self, context: str) -> list[int]:
-        ids = self.encode(context)
-        return [self.bos_id, *ids] if self.bos_id is not None else ids
-
-    def piece(self, token: int) -> bytes:
-        with self._lock:
-            return bytes(self._llm.detokenize([token]))
 
 
-class _HFTokenizer:
+class _HFTokenizer(HFTokenSplit):
     def __init__(self, folder: Path, add_bos: bool | None) -> None:
         from transformers import AutoTokenizer
 
-        self._tokenizer: Any = AutoTokenizer.from_pretrained(str(folder), local_files_only=True)
+        super().__init__(AutoTokenizer.from_pretrained(str(folder), local_files_only=True), add_bos)
         self.name = folder.name
         digest = hashlib.sha256()
         for file in sorted(p for p in folder.iterdir() if p.is_file() and "token" in p.name):
             digest.update(file.name.encode() + b"\0" + file.read_bytes())
         self.revision = digest.hexdigest()
-        bos = self._tokenizer.bos_token_id
-        own_rule = bos is not None and bool(getattr(self._tokenizer, "add_bos_token", False))
-        use_bos = own_rule if add_bos is None else add_bos
-        self.bos_id: int | None = int(bos) if use_bos and bos is not None else None
-
-    def encode(self, text: str) -> list[int]:
-        ids: list[int] = self._tokenizer(text, add_special_tokens=False).input_ids
-        return ids
-
-    def context_ids(self, context: str) -> list[int]:
-        ids = self.encode(context)
-        return [self.bos_id, *ids] if self.bos_id is not None else ids
-
-    def piece(self, token: int) -> bytes:
-        return str(self._tokenizer.decode([token])).encode()
 
 
 @functools.lru_cache(maxsize=8)
 def load_tokenizer(source: str, add_bos: bool | None = None) -> ServedTokenizer:
     """A GGUF file, a catalog model name, or a local folder holding a Hugging Face tokenizer (loaded once per
     process: the clients of a concurrent run share it)."""
-    from talkdem.llm.base import file_sha256
-    from talkdem.llm.models import get_model, model_path
+    from talkdem.llm.interface.base import file_sha256
+    from talkdem.llm.interface.models import get_model, model_path
 
     spec = get_model(source)
     if spec is not None:

@@ -12,7 +12,7 @@ full forward pass of prompt + skill per candidate. Here:
    continue from the prefix length along each branch. The cache is then cut back to the prefix.
 
 3. When only the best candidate under sum scoring is wanted, `best` finds it exactly by branch and bound over
-   the same trie (`talkdem.llm.branch_bound`), running one path at a time over the cached prefix.
+   the same trie (`talkdem.llm.scoring.branch_bound`), running one path at a time over the cached prefix.
 
 `naive_scores` is the reference implementation the tests compare against.
 """
@@ -26,8 +26,8 @@ import numpy as np
 import torch
 from numpy.typing import NDArray
 
-from talkdem.llm.branch_bound import BestContinuation, best_continuation
-from talkdem.llm.token_trie import TokenTrie
+from talkdem.llm.scoring.branch_bound import BestContinuation, best_continuation
+from talkdem.llm.scoring.token_trie import TokenTrie
 
 __all__ = ["PrefixCachedScorer", "naive_scores"]
 

@@ -7,8 +7,10 @@ from abc import ABC, abstractmethod
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import ClassVar
 
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.interface.options import BackendOption
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
 
 __all__ = [
     "BestContinuation",
@@ -57,6 +59,9 @@ class LanguageModel(ABC):
     """
 
     identity: ModelIdentity
+    options: ClassVar[tuple[BackendOption, ...]] = ()
+    """The constructor options a user may set by name (`--model-arg KEY=VALUE`, a sweep's `model_args:`), each
+    with its type; `talkdem.llm.interface.options` parses and checks them against this declaration."""
     supports_loglikelihood: bool = True
     """False for chat endpoints, which give no prompt log-likelihoods (planners then use generation)."""
     supports_json_schema: bool = False

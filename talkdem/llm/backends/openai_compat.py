@@ -5,7 +5,7 @@ Generation serves CoT/TOCC rewriting, the dataset's LLM generators and the gener
 log-likelihoods; given the served model's own `tokenizer` (a GGUF file, a catalog name or a local Hugging Face
 tokenizer folder), this backend also scores: SayCan's log-likelihood protocol over `/v1/completions` with echoed
 prompt log-probabilities (vLLM: token-id prompts, all candidates of a step in one request; llama-cpp-python's
-server: one string per request) or SGLang's `/generate` (see `talkdem.llm.served_scoring`). Without a tokenizer
+server: one string per request) or SGLang's `/generate` (see `talkdem.llm.scoring.served_scoring`). Without a tokenizer
 `loglikelihood` raises `LoglikelihoodUnsupportedError`.
 
 Server errors (5xx, 429), refused or dropped connections and timeouts are retried with exponential
@@ -24,11 +24,12 @@ import urllib.parse
 import urllib.request
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, loglikelihood_by_context
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
-from talkdem.llm.served_scoring import (
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity, cut_at_stop, loglikelihood_by_context
+from talkdem.llm.interface.options import BackendOption
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.scoring.served_scoring import (
     PromptFormat,
     ScoringProtocolError,
     ScoringRequest,
@@ -106,6 +107,27 @@ class OpenAICompatibleLM(LanguageModel):
     """
 
     supports_loglikelihood = False
+    # Not settable by name: `base_url` (the run spreads its episodes over `--base-url` servers, one client each),
+    # `api_key` (a secret: from $OPENAI_API_KEY, never on a command line or in a header) and `concurrency` (its
+    # name is the run's `--concurrency`, episodes stepping at once; one client's parallel requests are a caller's).
+    options: ClassVar[tuple[BackendOption, ...]] = (
+        BackendOption("timeout", "float", "seconds to wait for one answer", minimum=0, above_minimum=True),
+        BackendOption("max_retries", "int", "further attempts after a server error or timeout", minimum=0),
+        BackendOption("backoff", "float", "first wait between attempts (seconds), doubled each retry", minimum=0),
+        BackendOption("max_backoff", "float", "longest wait between attempts (seconds)", minimum=0),
+        BackendOption(
+            "endpoint", "choice", "generation route", choices={e: e for e in ("chat", "completions", "auto")}
+        ),
+        BackendOption("tokenizer", "str", "the served model's tokenizer (model name, GGUF file or HF folder)"),
+        BackendOption("scoring_api", "choice", "scoring route", choices={a: a for a in ("completions", "sglang")}),
+        BackendOption("prompt_format", "choice", "scoring prompts as", choices={f: f for f in ("ids", "text")}),
+        BackendOption(
+            "add_bos", "choice", "the tokenizer's BOS rule", choices={"model": None, "always": True, "never": False}
+        ),
+        BackendOption(
+            "structured_output", "choice", "how a JSON schema is sent", choices={s: s for s in STRUCTURED_OUTPUTS}
+        ),
+    )
 
     def __init__(
         self,
@@ -153,7 +175,7 @@ class OpenAICompatibleLM(LanguageModel):
         self.prompt_format: PromptFormat = prompt_format
         self.tokenizer = None
         if tokenizer is not None:
-            from talkdem.llm.served_tokenizer import load_tokenizer
+            from talkdem.llm.backends.served_tokenizer import load_tokenizer
 
             self.tokenizer = load_tokenizer(tokenizer, add_bos)
             self.supports_loglikelihood = True

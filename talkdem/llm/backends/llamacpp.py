@@ -12,7 +12,7 @@ token such as SmolLM2. Scoring many continuations of one context (SayCan's inner
    with the previous candidate, and only the candidate's remaining tokens are evaluated. Its last token
    never needs a pass (its probability comes from the position before it).
 3. When only the best candidate under sum scoring is wanted (SayCan's default), `best_continuation` finds it
-   exactly by branch and bound over the candidates' token trie (`talkdem.llm.branch_bound`), running only
+   exactly by branch and bound over the candidates' token trie (`talkdem.llm.scoring.branch_bound`), running only
    the prefixes that score above the winner.
 """
 
@@ -22,15 +22,17 @@ import itertools
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
-from talkdem.llm.branch_bound import BestContinuation, best_continuation, common_prefix_length
-from talkdem.llm.models import get_model, model_path
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.backends.tokenizing import GGUFTokenSplit
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
+from talkdem.llm.interface.models import get_model, model_path
+from talkdem.llm.interface.options import BackendOption
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.scoring.branch_bound import BestContinuation, best_continuation, common_prefix_length
 
 __all__ = ["LlamaCppLM"]
 
@@ -95,6 +97,14 @@ class LlamaCppLM(LanguageModel):
     """
 
     supports_json_schema = True
+    options: ClassVar[tuple[BackendOption, ...]] = (
+        BackendOption("n_ctx", "int", "context length in tokens", minimum=1),
+        BackendOption("threads", "int", "CPU threads (llama.cpp's default when unset)", minimum=1),
+        BackendOption("n_batch", "int", "tokens evaluated per batch", minimum=1),
+        BackendOption("chat_template", "bool", "wrap generation prompts in the GGUF's chat template"),
+        BackendOption("seed", "int", "the sampler's seed", minimum=0),
+        BackendOption("f32_kv_cache", "bool", "float32 keys and values (false: llama.cpp's float16)"),
+    )
 
     def __init__(
         self,
@@ -130,6 +140,7 @@ class LlamaCppLM(LanguageModel):
         )
         self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256)
         self.use_chat_template = chat_template and bool(self._llm.metadata.get("tokenizer.chat_template"))
+        self.split = GGUFTokenSplit(self._llm)
         self._next_logprobs: NDArray[np.float64] | None = None
         self.tokens_evaluated = 0
         """Tokens run through the model so far (context and candidates): what `make bench` compares."""
@@ -162,13 +173,11 @@ class LlamaCppLM(LanguageModel):
         return len(self.encode(text))
 
     def encode(self, text: str) -> list[int]:
-        ids: list[int] = self._llm.tokenize(text.encode(), add_bos=False, special=False)
-        return ids
+        return self.split.encode(text)
 
     def context_ids(self, context: str) -> list[int]:
         """The context's tokens, with BOS when the model's metadata asks for it (SmolLM2 does not)."""
-        ids: list[int] = self._llm.tokenize(context.encode(), add_bos=True, special=False)
-        return ids
+        return self.split.context_ids(context)
 
     # -- scoring --------------------------------------------------------------------------------------
     def _advance_to(self, ids: Sequence[int]) -> NDArray[np.float64]:

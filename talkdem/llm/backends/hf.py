@@ -10,16 +10,22 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
-from talkdem.llm.branch_bound import BestContinuation
-from talkdem.llm.models import get_model, model_path
-from talkdem.llm.prefix_scorer import PrefixCachedScorer, naive_scores
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.backends.tokenizing import HFTokenSplit
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
+from talkdem.llm.interface.models import get_model, model_path
+from talkdem.llm.interface.options import BackendOption
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.scoring.branch_bound import BestContinuation
 from talkdem.paths import cache_dir
 
+if TYPE_CHECKING:
+    from talkdem.llm.scoring.prefix_scorer import PrefixCachedScorer
+
 __all__ = ["HFCausalLM"]
+
+_DTYPES = {name: name for name in ("float32", "bfloat16", "float16")}
 
 
 def _resolve(model: str) -> Path | str:
@@ -33,6 +39,14 @@ def _resolve(model: str) -> Path | str:
 class HFCausalLM(LanguageModel):
     """A transformers causal LM on CPU (or `device`), float32 by default for exact scores."""
 
+    options: ClassVar[tuple[BackendOption, ...]] = (
+        BackendOption("device", "str", "torch device: cpu, cuda, cuda:1, mps"),
+        BackendOption("dtype", "choice", "weights' float type", choices=_DTYPES),
+        BackendOption("threads", "int", "CPU threads (torch's default when unset)", minimum=1),
+        BackendOption("chat_template", "bool", "wrap generation prompts in the tokenizer's chat template"),
+        BackendOption("max_packed_tokens", "int", "tokens of candidates scored in one packed pass", minimum=1),
+    )
+
     def __init__(
         self,
         model: str,
@@ -43,6 +57,10 @@ class HFCausalLM(LanguageModel):
         max_packed_tokens: int = 2048,
     ) -> None:
         import torch
+
+        from talkdem.llm.scoring.prefix_scorer import (
+            PrefixCachedScorer,
+        )  # torch's: imported with the model, not the module
 
         os.environ.setdefault("HF_HUB_OFFLINE", "1")
         if threads:
@@ -67,23 +85,18 @@ class HFCausalLM(LanguageModel):
         name = spec.name if spec is not None else str(source)
         self.identity = ModelIdentity(backend="hf", name=name, revision=revision)
         self.use_chat_template = chat_template and bool(getattr(self.tokenizer, "chat_template", None))
-        self.scorer = PrefixCachedScorer(self.model, max_packed_tokens=max_packed_tokens)
+        self.split = HFTokenSplit(self.tokenizer)
+        self.scorer: PrefixCachedScorer = PrefixCachedScorer(self.model, max_packed_tokens=max_packed_tokens)
 
     # -- tokenization, done once and centrally -------------------------------------------------------
     def token_count(self, text: str) -> int:
         return len(self.encode(text))
 
     def encode(self, text: str) -> list[int]:
-        ids: list[int] = self.tokenizer(text, add_special_tokens=False).input_ids
-        return ids
+        return self.split.encode(text)
 
     def _context_ids(self, context: str) -> list[int]:
-        ids = self.encode(context)
-        bos = self.tokenizer.bos_token_id
-        # Models trained with a BOS token expect it; SmolLM2 has none in its GGUF metadata by default.
-        if bos is not None and getattr(self.tokenizer, "add_bos_token", False):
-            ids = [bos, *ids]
-        return ids
+        return self.split.context_ids(context)
 
     # -- the interface --------------------------------------------------------------------------------
     def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
@@ -96,6 +109,8 @@ class HFCausalLM(LanguageModel):
 
     def naive_score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
         """Reference path: one full forward pass per continuation."""
+        from talkdem.llm.scoring.prefix_scorer import naive_scores
+
         return naive_scores(self.model, self._context_ids(context), [self.encode(c) for c in continuations])
 
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:

@@ -15,10 +15,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
-from talkdem.llm.base import LanguageModel, ModelIdentity, cut_at_stop
-from talkdem.llm.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.backends.tokenizing import HFTokenSplit
+from talkdem.llm.interface.base import LanguageModel, ModelIdentity, cut_at_stop
+from talkdem.llm.interface.options import BackendOption
+from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
 
 __all__ = ["VLLMLM", "ScoringPlan", "guided_json_options", "plan_scoring", "sum_prompt_logprobs"]
 
@@ -99,10 +101,23 @@ class VLLMLM(LanguageModel):
     Generation applies the model's chat template (system and user messages) and constrains decoding to a
     request's JSON schema by vLLM's structured outputs (`supports_json_schema`).
 
-    `engine_options` go to `vllm.LLM` unchanged (e.g. `max_model_len`, `quantization`).
+    `engine_options` go to `vllm.LLM` unchanged (e.g. `max_model_len`, `quantization`); of them, those two may be
+    set by name (`options`), the others only by a caller constructing the backend.
     """
 
     supports_json_schema = True
+    options: ClassVar[tuple[BackendOption, ...]] = (
+        BackendOption("tensor_parallel_size", "int", "GPUs the model is split over", minimum=1),
+        BackendOption("dtype", "str", "weights' type as vLLM names it (auto, bfloat16, float16, float32)"),
+        BackendOption(
+            "gpu_memory_utilization", "float", "share of GPU memory the engine may take", minimum=0, above_minimum=True
+        ),
+        BackendOption("seed", "int", "the engine's seed", minimum=0),
+        BackendOption("chat_template", "bool", "wrap generation prompts in the model's chat template"),
+        BackendOption("revision", "str", "the hub revision of the model"),
+        BackendOption("max_model_len", "int", "context length in tokens (an engine option)", minimum=1),
+        BackendOption("quantization", "str", "the weights' quantization method (an engine option)"),
+    )
 
     def __init__(
         self,
@@ -132,21 +147,17 @@ class VLLMLM(LanguageModel):
         self._vllm = vllm
         self.tokenizer = self._llm.get_tokenizer()
         self.use_chat_template = chat_template and bool(getattr(self.tokenizer, "chat_template", None))
+        self.split = HFTokenSplit(self.tokenizer)
         self.identity = ModelIdentity(backend="vllm", name=model, revision=revision or "")
 
     def token_count(self, text: str) -> int:
         return len(self.encode(text))
 
     def encode(self, text: str) -> list[int]:
-        ids: list[int] = self.tokenizer(text, add_special_tokens=False).input_ids
-        return ids
+        return self.split.encode(text)
 
     def _context_ids(self, context: str) -> list[int]:
-        ids = self.encode(context)
-        bos = getattr(self.tokenizer, "bos_token_id", None)
-        if bos is not None and getattr(self.tokenizer, "add_bos_token", False):
-            ids = [bos, *ids]
-        return ids
+        return self.split.context_ids(context)
 
     def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
         return self.loglikelihood([LoglikelihoodRequest(context, c) for c in continuations])

@@ -1,0 +1,43 @@
+"""Backends registered by name as `module:Class`, imported only when asked for."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
+from talkdem.llm.interface.base import LanguageModel
+from talkdem.llm.interface.options import BackendOption, OptionValue, parse_model_args
+from talkdem.registry import Registry, UnknownNameError
+
+__all__ = ["BACKENDS", "UnknownBackendError", "backend_options", "backends_with_option", "load_model", "model_args"]
+
+BACKENDS: Registry[LanguageModel] = Registry("backend")
+BACKENDS.register("hf", "talkdem.llm.backends.hf:HFCausalLM", "Hugging Face transformers")
+BACKENDS.register("llamacpp", "talkdem.llm.backends.llamacpp:LlamaCppLM", "llama.cpp")
+BACKENDS.register("vllm", "talkdem.llm.backends.vllm_backend:VLLMLM", "vLLM")
+BACKENDS.register("openai", "talkdem.llm.backends.openai_compat:OpenAICompatibleLM", "OpenAI-compatible server")
+
+UnknownBackendError = UnknownNameError  # the name callers already catch
+
+
+def load_model(backend: str, model: str, **options: Any) -> LanguageModel:
+    """Instantiate backend `backend` on `model` (a path, model id or served name)."""
+    return BACKENDS.create(backend, model, **options)
+
+
+def backend_options(backend: str) -> tuple[BackendOption, ...]:
+    """The options `backend` declares (its class's module is imported; the heavy libraries are not, a backend
+    imports those when it is constructed)."""
+    factory = BACKENDS.factory(backend)
+    declared: tuple[BackendOption, ...] = getattr(factory, "options", ())
+    return declared
+
+
+def backends_with_option(name: str) -> tuple[str, ...]:
+    """The backends that declare option `name`, in registration order."""
+    return tuple(b for b in BACKENDS.names() if any(o.name == name for o in backend_options(b)))
+
+
+def model_args(backend: str, items: Iterable[str]) -> dict[str, OptionValue]:
+    """`KEY=VALUE` strings as `backend`'s typed constructor options; ValueError naming the option otherwise."""
+    return parse_model_args(backend, backend_options(backend), items)
