@@ -31,12 +31,12 @@ STRATEGY_OPTIONS: dict[str, dict[str, object]] = {"care": {"order": "best_last"}
 
 def main() -> None:
     try:
-        from talkdem.llm.llamacpp import LlamaCppLM
+        from talkdem.llm.backends.llamacpp import LlamaCppLM
     except ImportError as error:
         print(f"strategy throughput: skipped ({error})")
         return
     os.environ.setdefault("HF_HUB_OFFLINE", "1")
-    from talkdem.llm.models import DEFAULT_MODEL
+    from talkdem.llm.interface.models import DEFAULT_MODEL
     from talkdem.planner.saycan import SayCanConfig
     from talkdem.planner.strategies import STRATEGIES, load_strategy
     from talkdem.runs.runner import run_episodes
