@@ -64,7 +64,7 @@ def test_text_is_the_inverse_of_parse() -> None:
         assert option.parse(option.text(value)) == value
 
 
-@pytest.mark.parametrize("backend", BACKENDS.names())
+@pytest.mark.parametrize("backend", ["hf", "llamacpp", "vllm", "openai"])  # the shipped ones (tests register more)
 def test_every_declared_option_is_a_constructor_keyword_with_a_parsable_default(backend: str) -> None:
     parameters = inspect.signature(BACKENDS.factory(backend)).parameters
     extra = any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values())
