@@ -39,9 +39,10 @@ __all__ = ["LlamaCppLM"]
 # TALK-Dem is not on PyPI, so `pip install 'talkdem[llamacpp]'` finds nothing: name what works (the extra's
 # one requirement, from pyproject.toml; or the extra of a checkout or of the wheel file).
 _MISSING = (
-    "llama-cpp-python is not installed (the `llamacpp` extra): `pip install 'llama-cpp-python[server]>=0.3.7'`, "
+    "llama-cpp-python is not installed (the `llamacpp` extra): `pip install 'llama-cpp-python[server]==0.3.36'`, "
     "or from a checkout `pip install -e '.[llamacpp]'`, or with the wheel `pip install 'PATH/TO/talkdem-VERSION-"
-    "py3-none-any.whl[llamacpp]'`; it compiles llama.cpp, about 5-6 minutes on 2 cores"
+    "py3-none-any.whl[llamacpp]'`; it compiles llama.cpp, about 5-6 minutes on 2 cores (on a virtual machine "
+    "whose CPU reports Intel AMX, with CMAKE_ARGS leaving AMX out, as the Makefile's setup-test target does)"
 )
 
 _GGML_TYPE_F32 = 0  # ggml_type enum value of float32
