@@ -33,6 +33,11 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
     parser.add_argument(
+        "--no-paper",
+        action="store_true",
+        help="leave out the paper's own figures (other models), which are otherwise set beside ours, marked (paper)",
+    )
+    parser.add_argument(
         "--labels",
         type=Path,
         metavar="FILE",
@@ -70,6 +75,7 @@ def run(args: argparse.Namespace) -> int:
         args.out,
         reference_strategy=args.reference_strategy,
         plots=not args.no_plots,
+        paper=not args.no_paper,
         extra_tables=extra,
         viewer=args.viewer,
     )

@@ -42,7 +42,15 @@ from talkdem.metrics.scores import (
     score_predictions,
     score_run,
 )
-from talkdem.metrics.stats import BOOTSTRAP_SEED, TestResult, bootstrap_ci, clustered_mean_test, paired_ttest, stars
+from talkdem.metrics.stats import (
+    BOOTSTRAP_SEED,
+    TestResult,
+    bootstrap_ci,
+    clustered_mean_test,
+    detectable_difference,
+    paired_ttest,
+    stars,
+)
 from talkdem.schema import CONDITIONS
 
 __all__ = [
@@ -72,6 +80,7 @@ __all__ = [
     "compare_retention",
     "compute_scores",
     "condition_key",
+    "detectable_difference",
     "error_cases",
     "execute_plans",
     "instruction_index",

@@ -19,6 +19,7 @@ __all__ = [
     "bootstrap_ci",
     "check_resamples",
     "clustered_mean_test",
+    "detectable_difference",
     "paired_ttest",
     "stars",
 ]
@@ -96,6 +97,21 @@ def clustered_mean_test(differences: Sequence[float], clusters: Sequence[str]) -
     statistic = mean / math.sqrt(variance)
     p_value = float(2 * stats.t.sf(abs(statistic), g - 1))
     return TestResult(mean, statistic, p_value, n, g)
+
+
+def detectable_difference(test: TestResult, *, power: float = 0.8, alpha: float = 0.05) -> float:
+    """The smallest true mean difference this test would find significant (two-sided `alpha`) with
+    probability `power`, at its own sample size and observed spread: (t_{1-alpha/2} + t_{power}) x SE on its
+    degrees of freedom. It says what a run can and cannot tell: a difference below it may well be real and
+    still read as no difference. The standard error comes back out of the test (|mean / t|), so it is NaN
+    where the test is undefined or the observed mean difference is exactly 0."""
+    dof = (test.clusters or test.n) - 1
+    if dof < 1 or math.isnan(test.statistic) or test.statistic == 0:
+        return math.nan
+    from scipy import stats
+
+    standard_error = abs(test.mean_difference / test.statistic)
+    return float((stats.t.ppf(1 - alpha / 2, dof) + stats.t.ppf(power, dof)) * standard_error)
 
 
 MIN_RESAMPLES = 40

@@ -138,10 +138,16 @@ def success_figure(runs: Sequence[ScoredRun]) -> Any:
     return fig
 
 
-def retention_figure(runs: Sequence[ScoredRun]) -> Any:
+def retention_figure(runs: Sequence[ScoredRun], *, paper: bool = False) -> Any:
     """Retention (%) against level per pattern, one line per run. The oracle is left out (its retention is
-    100% by construction); a mean line is drawn only over runs that covered the same episodes."""
+    100% by construction); a mean line is drawn only over runs that covered the same episodes. With `paper`,
+    a gray dotted line is the paper's mean over its six open-weight models (other models)."""
     plt = _pyplot()
+    paper_means = {}
+    if paper:
+        from talkdem.report.paper import paper_retention_means
+
+        paper_means = paper_retention_means()
     undefined = [
         r
         for r in runs
@@ -167,15 +173,19 @@ def retention_figure(runs: Sequence[ScoredRun]) -> Any:
             mean_label = f"mean of the {len(shown)} runs (same episodes)"
             # A wide dash marker keeps the mean visible where a run covers one level (a line needs two points).
             ax.plot(LEVELS, mean, color="black", linewidth=2.5, marker="_", markersize=16, mew=2.5, label=mean_label)
+        if paper_means:
+            values = [paper_means.get((pattern, level), math.nan) for level in LEVELS]
+            label = "the paper: mean of its six open-weight models (other models)"
+            ax.plot(LEVELS, values, color="gray", linestyle=":", linewidth=2, marker="s", markersize=4, label=label)
         ax.axhline(100, color="gray", linestyle="--", linewidth=1)
         ax.set_xticks(LEVELS, [f"L{level}" for level in LEVELS])
         ax.set_title(PATTERN_LABELS[pattern], fontsize=9)
         ax.set_ylim(-3, 105)
         ax.spines[["top", "right"]].set_visible(False)
     axes[0].set_ylabel("Clean-conditioned retention (%)")
-    if shown:
+    if shown or paper_means:
         fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center", ncols=2, fontsize=7, frameon=False)
-    else:
+    if not shown:
         fig.text(0.5, 0.5, "No run with a defined retention to show", ha="center", fontsize=10)
     note = "dashed: the clean baseline (100%)"
     if not mean_label and len(shown) > 1:
@@ -311,8 +321,9 @@ def _save(fig: Any, path: Path) -> Path:
     return path
 
 
-def write_plots(runs: Sequence[ScoredRun], folder: Path) -> list[PlotFile]:
-    """Every figure as a PNG in `folder`: bars, retention lines, the strategy radar, a heatmap per run."""
+def write_plots(runs: Sequence[ScoredRun], folder: Path, *, paper: bool = False) -> list[PlotFile]:
+    """Every figure as a PNG in `folder`: bars, retention lines, the strategy radar, a heatmap per run; with
+    `paper`, the retention figure also draws the paper's mean (other models)."""
     folder.mkdir(parents=True, exist_ok=True)
     files = [
         PlotFile(
@@ -322,9 +333,15 @@ def write_plots(runs: Sequence[ScoredRun], folder: Path) -> list[PlotFile]:
             "per run with its 95% bootstrap interval over tasks; hatched: reference plans (not ranked).",
         ),
         PlotFile(
-            _save(retention_figure(runs), folder / "retention_by_level.png"),
+            _save(retention_figure(runs, paper=paper), folder / "retention_by_level.png"),
             "Retention per intensity level",
-            "Clean-conditioned retention (%) per pattern and level, one line per run.",
+            "Clean-conditioned retention (%) per pattern and level, one line per run."
+            + (
+                " Gray dotted: the paper's mean over its six open-weight models (7B-72B, its 300 tasks and dataset "
+                "build; other models, for direction only)."
+                if paper
+                else ""
+            ),
         ),
     ]
     radar, note = radar_figure(runs)

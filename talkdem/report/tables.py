@@ -20,6 +20,7 @@ from talkdem.metrics import (
     HAZARD_CATEGORIES,
     ErrorType,
     TestResult,
+    detectable_difference,
     introduced_hazards,
     paired_ttest,
     plan_length_pairs,
@@ -114,20 +115,40 @@ def _signed_pp(value: float, p_value: float) -> str:
     return "–" if math.isnan(value) else f"{100 * value:+.1f}{stars(p_value)}"
 
 
+def _detectable(tests: Sequence[TestResult]) -> str:
+    """The median over `tests` of the smallest change each could detect (80% power), in points."""
+    values = sorted(v for v in (detectable_difference(t) for t in tests) if not math.isnan(v))
+    if not values:
+        return "–"
+    middle = len(values) // 2
+    median = values[middle] if len(values) % 2 else (values[middle - 1] + values[middle]) / 2
+    return f"±{100 * median:.1f}"
+
+
+_DETECTABLE = (
+    "Detectable: the smallest true change (points) the run's own test would find at p<0.05 with 80% power, "
+    "at its number of tasks and observed spread (median over the patterns); smaller changes may be real and "
+    "still show no star."
+)
+
+
 def success_table(runs: Sequence[ScoredRun]) -> Table:
     """Appendix "Detailed Benchmark Results": clean SR (%) and each pattern's change (points) with stars."""
     rows = []
     for run in runs:
         s = run.scores
-        changes = [_signed_pp(s.sr_change[p], s.sr_change_test[p].p_value) for p in PATTERN_CONFIGS]
-        rows.append((run.model, run.strategy, str(s.n_episodes), _pct(s.success_rate["clean"]), *changes))
+        tests = [s.sr_change_test[p] for p in PATTERN_CONFIGS]
+        changes = [_signed_pp(s.sr_change[p], t.p_value) for p, t in zip(PATTERN_CONFIGS, tests, strict=True)]
+        clean = _pct(s.success_rate["clean"])
+        rows.append((run.model, run.strategy, str(s.n_episodes), clean, *changes, _detectable(tests)))
     return Table(
         "success",
         "Task success rate: clean and change under each pattern",
         "Success rate (%) on clean instructions and the change in success rate (percentage points) of each "
         "pattern, averaged over the intensity levels the run covers (all three on the full benchmark). Two-sided "
-        f"paired t-test between the per-task mean over those levels and the clean outcome: {_STARS} {_LEGEND}",
-        ("Model", "Strategy", "n", "Clean", *(PATTERN_CODES[p] for p in PATTERN_CONFIGS)),
+        f"paired t-test between the per-task mean over those levels and the clean outcome: {_STARS} {_LEGEND} "
+        f"{_DETECTABLE}",
+        ("Model", "Strategy", "n", "Clean", *(PATTERN_CODES[p] for p in PATTERN_CONFIGS), "Detectable"),
         tuple(rows),
     )
 
@@ -299,6 +320,7 @@ def strategy_success_test_table(runs: Sequence[ScoredRun], reference: str = "CAR
                     _pct(sum(theirs.values()) / len(theirs)),
                     _signed_pp(test.mean_difference, test.p_value),
                     "–" if math.isnan(test.p_value) else f"{test.p_value:.3f}",
+                    _detectable([test]),
                 )
             )
     if not rows:
@@ -308,8 +330,10 @@ def strategy_success_test_table(runs: Sequence[ScoredRun], reference: str = "CAR
         "Task success rate of each strategy against the reference strategy",
         "Success rate (%) of each strategy and of the reference strategy on the episodes both runs cover (tasks "
         "x conditions, clean included), and the difference in percentage points (strategy minus reference) of "
-        f"the per-task success rates, with a two-sided paired t-test over tasks: {_STARS}",
-        ("Model", "Strategy", "Reference", "Tasks", "Conditions", "SR", "Reference SR", "Δ", "p"),
+        f"the per-task success rates, with a two-sided paired t-test over tasks: {_STARS} Detectable: the "
+        "smallest true difference (points) that test would find at p<0.05 with 80% power, at its number of "
+        "tasks and observed spread.",
+        ("Model", "Strategy", "Reference", "Tasks", "Conditions", "SR", "Reference SR", "Δ", "p", "Detectable"),
         tuple(rows),
     )
 
@@ -382,8 +406,9 @@ def plan_length_table(runs: Sequence[ScoredRun]) -> Table:
     )
 
 
-def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE") -> list[Table]:
-    """Every table, in the paper's order."""
+def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE", *, paper: bool = True) -> list[Table]:
+    """Every table, in the paper's order; with `paper`, the paper's own figures beside ours
+    (`talkdem.report.paper`), marked as the paper's."""
     # Strategies are compared among planner runs only: an oracle or external column would read as a strategy.
     planner_runs = [r for r in runs if r.from_planner]
     tables = [success_table(runs), retention_table(runs), *strategy_success_tables(planner_runs)]
@@ -401,4 +426,8 @@ def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE") -> l
     asked = clarification_table(runs)
     if asked is not None:
         tables.append(asked)
+    if paper:
+        from talkdem.report.paper import beside_paper
+
+        tables = beside_paper(tables)
     return tables

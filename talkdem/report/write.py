@@ -45,13 +45,15 @@ def write_report(
     *,
     reference_strategy: str = "CARE",
     plots: bool = True,
+    paper: bool = True,
     extra_tables: Sequence[Table] = (),
     viewer: str | None = None,
 ) -> ReportFiles:
     """Write `out/report.md`, `out/report.html` (self-contained, figures embedded),
     `out/tables/<name>.{md,csv,json}`, `out/scores/<run>.json` and `out/plots/*.png`. `extra_tables` follow
-    the paper's (the human error labels); `viewer` links both pages to the episode viewer."""
-    files = ReportFiles(out, [*all_tables(runs, reference_strategy), *extra_tables])
+    the paper's (the human error labels); `viewer` links both pages to the episode viewer; `paper` sets the
+    paper's own figures (other models, marked as such) beside ours, and in the retention figure."""
+    files = ReportFiles(out, [*all_tables(runs, reference_strategy, paper=paper), *extra_tables])
     (out / "tables").mkdir(parents=True, exist_ok=True)
     (out / "scores").mkdir(parents=True, exist_ok=True)
     for table in files.tables:
@@ -75,7 +77,7 @@ def write_report(
     if plots:
         from talkdem.report.plots import write_plots
 
-        figures = write_plots(runs, out / "plots")
+        figures = write_plots(runs, out / "plots", paper=paper)
         files.plots = [f.path for f in figures]
     body = "\n".join(t.to_markdown() for t in files.tables)
     links = "\n".join(

@@ -36,9 +36,9 @@ def run_dirs(tmp_path_factory: pytest.TempPathFactory) -> list[Path]:
 
 def test_tables_have_the_paper_layouts(run_dirs: list[Path]) -> None:
     runs = score_runs(run_dirs, bootstrap=0)
-    tables = {t.name: t for t in all_tables(runs)}
+    tables = {t.name: t for t in all_tables(runs, paper=False)}
     success = tables["success"]
-    assert success.columns == ("Model", "Strategy", "n", "Clean", "RI", "OS", "ES", "TD", "IN")
+    assert success.columns == ("Model", "Strategy", "n", "Clean", "RI", "OS", "ES", "TD", "IN", "Detectable")
     # vanilla: level 3 fails for 3 of 4 tasks -> pattern SR (1 + 1 + 1/4)/3 = 75%, change -25.0 points
     assert success.rows[0][:4] == ("tiny-model", "Vanilla", "64", "100.0")
     assert success.rows[0][4].startswith("-25.0")
@@ -71,7 +71,7 @@ def test_oracle_and_external_plans_are_scored_but_not_compared_as_strategies(
     oracle = tmp_path / "oracle"
     write_oracle_run(episodes, oracle)
     runs = score_runs([*run_dirs, oracle], bootstrap=0)
-    tables = {t.name: t for t in all_tables(runs)}
+    tables = {t.name: t for t in all_tables(runs, paper=False)}
     assert tables["success"].rows[-1][:4] == ("oracle", "reference plans", "64", "100.0")
     assert tables["strategy_retention_by_model"].columns[1:] == ("Vanilla", "CARE")
     assert all("reference plans" not in t.columns for t in tables.values() if t.name.startswith("strateg"))
