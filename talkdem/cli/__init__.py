@@ -40,6 +40,7 @@ from talkdem.cli import (
     verify_run,
     view,
 )
+from talkdem.cli.stopping import TERMINATED_EXIT, Terminated, stop_on_signals
 
 __all__ = ["build_parser", "main"]
 
@@ -105,14 +106,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        code: int = args.handler(args)
+        with stop_on_signals():
+            code: int = args.handler(args)
     except BrokenPipeError:  # `talkdem tasks | head` should end quietly
         return 0
-    except KeyboardInterrupt:
-        print(
-            f"talkdem {args.command}: interrupted (finished episodes are saved; run again to resume)", file=sys.stderr
-        )
-        return 130
+    except KeyboardInterrupt as stop:
+        how = "terminated" if isinstance(stop, Terminated) else "interrupted"
+        print(f"talkdem {args.command}: {how} (finished episodes are saved; run again to resume)", file=sys.stderr)
+        return TERMINATED_EXIT if isinstance(stop, Terminated) else 130
     except Exception as exc:
         # Every failure is one line and a non-zero exit; TALKDEM_DEBUG=1 shows the traceback of a bug.
         if os.environ.get("TALKDEM_DEBUG"):

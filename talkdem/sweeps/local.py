@@ -75,10 +75,12 @@ def run_local(
 
 
 def _stop(processes: list[subprocess.Popen[bytes]]) -> None:
-    """Interrupt the jobs as Ctrl-C would (each saves what it finished), then wait for them."""
+    """Stop the jobs with SIGTERM, which `talkdem run` handles as Ctrl-C (each saves what it finished and
+    marks its run incomplete; SIGINT would not reach a worker of a sweep started in the background, which
+    inherits it ignored), then wait for them."""
     for process in processes:
         if process.poll() is None:
-            process.send_signal(signal.SIGINT)
+            process.send_signal(signal.SIGTERM)
     deadline = time.monotonic() + _STOP_SECONDS
     for process in processes:
         try:
