@@ -2,8 +2,11 @@
 
 Each clarification run is paired with the run in the report that planned the same episodes without it
 (same model, planner and strategy; `clarify` none): success gained per question and the change in success
-are measured on the episodes both runs have, paired by id, with the paired t-test the report uses elsewhere
-(per episode: success with minus without clarification).
+are measured on the episodes both runs have, paired by id: per episode, success with minus without
+clarification, tested with standard errors clustered by task (the plan-length table's test). A group of one
+episode per task (one pattern and level) makes that exactly the paired t-test over tasks the report uses
+elsewhere; where a task has several episodes (a pattern over its levels, all conditions) they are not taken
+as independent.
 """
 
 from __future__ import annotations
@@ -11,7 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from talkdem.metrics import CLARIFICATION_GROUPS, clarification_scores, paired_ttest, stars
+from talkdem.metrics import CLARIFICATION_GROUPS, clarification_scores, clustered_mean_test, stars
 from talkdem.report.runs import ScoredRun
 from talkdem.report.tables import Table
 from talkdem.runs.records import EpisodeRecord
@@ -58,11 +61,12 @@ def _in_group(record: EpisodeRecord, group: str) -> bool:
 
 
 def _change(records: Sequence[EpisodeRecord], without: dict[str, bool], group: str) -> str:
-    """The change in SR (points) on the paired episodes of `group`, starred by the paired t-test."""
+    """The change in SR (points) on the paired episodes of `group`, starred by the task-clustered test."""
     chosen = [r for r in records if _in_group(r, group) and r.episode_id in without]
     if not chosen:
         return "–"
-    test = paired_ttest([float(r.success) for r in chosen], [float(without[r.episode_id]) for r in chosen])
+    differences = [float(r.success) - float(without[r.episode_id]) for r in chosen]
+    test = clustered_mean_test(differences, [r.task_id for r in chosen])
     return f"{100 * test.mean_difference:+.1f}{stars(test.p_value)}"
 
 
@@ -107,8 +111,9 @@ def clarification_table(runs: Sequence[ScoredRun]) -> Table | None:
         "Asking before acting: clarification per pattern and level",
         "Runs whose planner could ask (answers: oracle, clear; in-pattern, spoken under the instruction's own "
         "pattern and level). SR (%) with clarification; its change (points) against the same model, planner and "
-        "strategy without clarification, on the episodes both have, with a two-sided paired t-test per episode "
-        "(*p<0.05, **p<0.01, ***p<0.001); questions per episode; help rate (% of episodes with a question); "
+        "strategy without clarification, on the episodes both have, with a two-sided t-test on the paired "
+        "differences, standard errors clustered by task (*p<0.05, **p<0.01, ***p<0.001); questions per "
+        "episode; help rate (% of episodes with a question); "
         "success gained per question (points per question asked); clean-conditioned retention (%) with "
         "clarification; unneeded questions: asked on clean instructions.",
         (
