@@ -153,6 +153,18 @@ def _detail(episode: ViewedEpisode) -> dict[str, Any]:
         if isinstance(h, dict)
     ]
     notes = {k: v for k, v in public_config(record.notes).items() if k != "top_candidates" and v}
+    # A clarification run's exchanges: [actions done when asked, question, slot ("" unmatched), answer, in pattern].
+    dialogue = [
+        [
+            int(x.get("step", 0)),
+            str(x.get("question", "")),
+            str(x.get("slot", "")),
+            str(x.get("answer", "")),
+            int(bool(x.get("in_pattern"))),
+        ]
+        for x in trace.get("dialogue", [])
+        if isinstance(x, dict)
+    ]
     diff = None
     if record.pattern != "clean" and episode.clean_text:
         diff = [list(segment) for segment in word_diff(episode.clean_text, record.instruction)]
@@ -160,6 +172,7 @@ def _detail(episode: ViewedEpisode) -> dict[str, Any]:
         "shown": record.instruction_shown,
         "diff": diff,
         "steps": steps,
+        "dialogue": dialogue if "dialogue" in trace else None,
         "end": str(trace.get("end_reason", "")),
         "goals": goals,
         "met": record.goal_conditions.get("met"),

@@ -26,8 +26,8 @@ from talkdem.sim import DEFAULT_MAX_STEPS, run_plan
 
 __all__ = ["ViewedEpisode", "ViewedRun", "load_runs"]
 
-_SHOWN_TRACE = ("steps", "goal", "hazards", "end_reason")
-"""The parts of a stored trace the viewer shows."""
+_SHOWN_TRACE = ("steps", "goal", "hazards", "end_reason", "dialogue")
+"""The parts of a stored trace the viewer shows (`dialogue`: a clarification run's questions and answers)."""
 
 
 @dataclass(frozen=True)

@@ -162,8 +162,19 @@ function column(i, d, heading){
     (d.seconds !== null ? ' · planned in ' + d.seconds.toFixed(1) + ' s' : '')));
   col.appendChild(head);
   if (d.stored_success !== !!r[F.success]) col.appendChild(el('p', {cls: 'fail'}, 'The run stored ' + (d.stored_success ? 'success' : 'failure') + '; this simulator re-executes the plan to the outcome shown (another simulator version wrote the run).'));
-  var t = el('table', {cls: 'steps'}), tb = el('tbody');
+  var t = el('table', {cls: 'steps'}), tb = el('tbody'), asked = d.dialogue || [];
+  /* A question is not an action: it is shown where it was asked, before the step that followed it. */
+  function exchanges(before){ asked.filter(function(x){ return before === null ? x[0] >= d.steps.length : x[0] === before; }).forEach(function(x){
+    var tr = el('tr', {cls: 'ask'});
+    tr.appendChild(el('td', {cls: 'num', title: 'a question, asked after ' + x[0] + ' actions'}, '?'));
+    var q = el('td'); q.appendChild(el('div', null, 'Robot: ' + x[1]));
+    q.appendChild(el('div', {cls: 'msg', title: x[4] ? 'answered in the instruction\'s own pattern' : 'answered plainly'}, 'Person: ' + x[3]));
+    tr.appendChild(q);
+    tr.appendChild(el('td', {cls: 'muted', title: 'the slot the question was matched to'}, x[2] ? x[2].replace(/_/g, ' ') + (x[4] ? ' · in pattern' : '') : 'no slot: I don\'t know'));
+    tb.appendChild(tr);
+  }); }
   d.steps.forEach(function(s, k){
+    exchanges(k);
     var tr = el('tr', {cls: s[1] ? 'done' : 'failed'});
     tr.appendChild(el('td', {cls: 'num', title: 'step index, from 0 as the simulator counts'}, k));
     var sk = el('td'); sk.appendChild(el('div', null, s[0]));
@@ -174,7 +185,10 @@ function column(i, d, heading){
     else { res.appendChild(el('span', {cls: 'fail'}, 'failed')); res.appendChild(el('div', {cls: 'msg'}, s[2] + (s[3] ? ' (' + s[3].replace(/_/g, ' ') + ')' : ''))); }
     tr.appendChild(res); tb.appendChild(tr);
   });
-  t.appendChild(tb); col.appendChild(el('h3', null, 'Plan and simulator feedback')); col.appendChild(t);
+  exchanges(null);
+  t.appendChild(tb);
+  col.appendChild(el('h3', null, 'Plan and simulator feedback' + (d.dialogue ? ' (' + asked.length + (asked.length === 1 ? ' question' : ' questions') + ' asked)' : '')));
+  col.appendChild(t);
   col.appendChild(el('h3', null, 'Goal conditions' + (d.total ? ' (' + d.met + ' of ' + d.total + ' met)' : '')));
   var ul = el('ul', {cls: 'goals'});
   d.goals.forEach(function(g){ var li = el('li', {cls: g[1] ? 'ok' : 'fail'}, (g[1] ? '✓ met: ' : '✗ missed: ') + g[0]); ul.appendChild(li); });
