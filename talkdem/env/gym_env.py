@@ -6,6 +6,13 @@ the goal holds at `done`, else 0.0; `terminated` is `done`, `truncated` the step
 the 214 skills is a failed step, as the simulator records it. When an episode ends, `info` carries the goal
 conditions, the hazards and the trace, so an agent's episodes can be written as a run directory
 (`EpisodeRecorder`). Nothing is random: `seed` is accepted for the API and changes nothing.
+
+With `clarify="oracle"` or `"in-pattern"` the agent may also ask (the clarification track, as `talkdem run
+--clarify`): a step that starts with `ask` (`info["questions"]` lists the fixed ones; free-form questions are
+matched to a slot or answered "I don't know.") is answered by the simulated person, is not an action and does
+not count towards the step limit. Up to `clarify_budget` questions per episode; a question past the budget goes
+to the simulator like any other string, where it is a failed step. The exchanges are in `info["dialogue"]` when
+the episode ends, for `EpisodeRecorder.record(..., dialogue=...)`.
 """
 
 from __future__ import annotations
@@ -18,6 +25,7 @@ from typing import Any
 import gymnasium as gym
 from gymnasium import spaces
 
+from talkdem.clarify import CLARIFY_MODES, ClarifyMode, Exchange, SimulatedPerson, is_question, question_texts
 from talkdem.env.feedback import observation_of
 from talkdem.instructions import Instruction, load_instructions
 from talkdem.schema import parse_instruction_id
@@ -53,7 +61,8 @@ class TalkDemEnv(gym.Env[str, str]):
 
     `episodes`: the instructions to iterate (default: all 4,800, in `talkdem episodes` order); `reset()`
     without an `episode_id` option takes the next one, cycling. `options={"episode_id": ...}` picks any
-    episode of the dataset, selected or not.
+    episode of the dataset, selected or not. `clarify`, `clarify_budget`: questions the agent may ask (see the
+    module docstring).
     """
 
     metadata = {"render_modes": ["ansi"]}  # noqa: RUF012 (Gymnasium's class attribute)
@@ -66,7 +75,19 @@ class TalkDemEnv(gym.Env[str, str]):
         simulator: str | SimulatorBackend = "symbolic",
         show_objects: bool = False,
         render_mode: str | None = None,
+        clarify: ClarifyMode = "none",
+        clarify_budget: int = 2,
     ) -> None:
+        if clarify not in CLARIFY_MODES:
+            raise ValueError(f"TalkDem-v0: clarify must be one of {', '.join(CLARIFY_MODES)}, got {clarify!r}")
+        if isinstance(clarify_budget, bool) or not isinstance(clarify_budget, int) or clarify_budget < 0:
+            raise ValueError(f"TalkDem-v0: clarify_budget must be a whole number >= 0, got {clarify_budget!r}")
+        self.clarify: ClarifyMode = clarify
+        self.clarify_budget = clarify_budget
+        self._person: SimulatedPerson | None = None
+        self.dialogue: list[Exchange] = []
+        """The questions asked and answered in the current episode."""
+        self._actions = 0
         self.selection = tuple(episodes) if episodes is not None else load_instructions()
         if not self.selection:
             raise ValueError("TalkDem-v0: the episode selection is empty")
@@ -106,6 +127,8 @@ class TalkDemEnv(gym.Env[str, str]):
         task = get_task(instruction.task_id)
         self.instruction, self.trace = instruction, None
         self._episode = self.backend.start(task, max_steps=self.max_steps)
+        self._person = SimulatedPerson(self.clarify, instruction, task) if self.clarify != "none" else None
+        self.dialogue, self._actions = [], 0
         show = self.show_objects or bool((options or {}).get("show_objects"))
         objects = scene_objects(instruction.task_id) if show else ()
         observation = instruction.text + (f"\nObjects in the scene: {', '.join(objects)}." if objects else "")
@@ -121,6 +144,8 @@ class TalkDemEnv(gym.Env[str, str]):
         }
         if objects:
             info["objects"] = objects
+        if self._person is not None:
+            info.update(questions=question_texts(), clarify=self.clarify, clarify_budget=self.clarify_budget)
         return observation, info
 
     def step(self, action: str) -> tuple[str, float, bool, bool, dict[str, Any]]:
@@ -128,7 +153,11 @@ class TalkDemEnv(gym.Env[str, str]):
             raise RuntimeError("TalkDem-v0: call reset() before step()")
         if self.trace is not None:
             raise RuntimeError(f"TalkDem-v0: episode '{self.instruction.id}' is over; call reset()")
-        record = self._episode.step(action if isinstance(action, str) else str(action))
+        text = action if isinstance(action, str) else str(action)
+        if self._person is not None and is_question(text) and len(self.dialogue) < self.clarify_budget:
+            return self._ask(text)
+        record = self._episode.step(text)
+        self._actions += 1
         observation = observation_of(record)
         self._last = observation
         info: dict[str, Any] = {
@@ -153,7 +182,25 @@ class TalkDemEnv(gym.Env[str, str]):
                 end_reason=self.trace.end_reason.value,
                 trace=self.trace,
             )
+            if self._person is not None:
+                info["dialogue"] = tuple(self.dialogue)
         return observation, reward, terminated, truncated, info
+
+    def _ask(self, question: str) -> tuple[str, float, bool, bool, dict[str, Any]]:
+        """A question: the simulated person's answer is the observation; the simulator does not move."""
+        assert self._person is not None and self.instruction is not None
+        exchange = self._person.ask(question, self._actions)
+        self.dialogue.append(exchange)
+        self._last = exchange.answer
+        info: dict[str, Any] = {
+            "episode_id": self.instruction.id,
+            "question": exchange.question,
+            "slot": exchange.slot,
+            "answer": exchange.answer,
+            "in_pattern": exchange.in_pattern,
+            "questions_left": self.clarify_budget - len(self.dialogue),
+        }
+        return exchange.answer, 0.0, False, False, info
 
     def finish(self) -> EpisodeTrace:
         """End the current episode where it stands (an agent that stops without `done`): its trace."""

@@ -8,12 +8,14 @@ disk are kept, and `recorded` says which ids to skip.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from contextlib import ExitStack
 from pathlib import Path
 from types import TracebackType
 from typing import Any
 
+from talkdem.clarify import Exchange
 from talkdem.instructions import Instruction
 from talkdem.runs.records import EpisodeRecord, RunHeader
 from talkdem.runs.store import EpisodeWriter, open_run, run_lock
@@ -39,6 +41,7 @@ class EpisodeRecorder:
         max_steps: int | None = None,
         planned: Sequence[Instruction] = (),
         config: dict[str, Any] | None = None,
+        clarify: str = "none",
     ) -> None:
         from talkdem.sim.seam import DEFAULT_MAX_STEPS
 
@@ -54,6 +57,7 @@ class EpisodeRecorder:
                 "agent": {"name": agent, "version": version, "model": model},
                 "max_steps": DEFAULT_MAX_STEPS if max_steps is None else max_steps,
                 **(config or {}),
+                **({"clarify": clarify} if clarify != "none" else {}),
                 **({"planned_episodes": len(planned)} if planned else {}),
             },
         )
@@ -67,14 +71,24 @@ class EpisodeRecorder:
             raise
 
     def record(
-        self, instruction: Instruction, plan: Sequence[str], trace: EpisodeTrace, notes: dict[str, str] | None = None
+        self,
+        instruction: Instruction,
+        plan: Sequence[str],
+        trace: EpisodeTrace,
+        notes: dict[str, str] | None = None,
+        dialogue: Sequence[Exchange] | None = None,
     ) -> EpisodeRecord:
-        """Append one finished episode (an id already recorded is refused: one record per episode)."""
+        """Append one finished episode (an id already recorded is refused: one record per episode).
+        `plan`: the actions alone; `dialogue`: the questions asked on the way (the env's `info["dialogue"]`),
+        stored as `talkdem run --clarify` stores them, so the report's clarification metrics read them."""
         if instruction.id in self.recorded:
             raise ValueError(f"{self.run_dir}: episode '{instruction.id}' is already recorded")
         if trace.task_id != instruction.task_id:
             raise ValueError(f"episode '{instruction.id}': the trace is of task '{trace.task_id}'")
         record = EpisodeRecord.from_trace(instruction, tuple(plan), trace, notes=notes)
+        if dialogue is not None:
+            exchanges = [exchange.to_json() for exchange in dialogue]
+            record = dataclasses.replace(record, trace={**record.trace, "dialogue": exchanges})
         self._writer.write(record)
         self.recorded.add(instruction.id)
         return record
