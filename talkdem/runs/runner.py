@@ -134,7 +134,7 @@ def run_episodes(
         selection=extra_config,
     )
     header = spec.header(
-        model={"backend": model.identity.backend, "name": model.identity.name, "revision": model.identity.revision},
+        model=model.identity.to_header(),
         planned_episodes=len(instructions),
         served=served,
     )

@@ -158,7 +158,7 @@ def smollm_llama_other() -> object:
     """The same model on one thread with 7-token batches: other splits of the same computation."""
     from talkdem.llm.backends.llamacpp import LlamaCppLM
 
-    return LlamaCppLM("smollm2-135m-instruct", threads=1, n_batch=7)
+    return LlamaCppLM("smollm2-135m-instruct", threads=1, context_chunk=7)
 
 
 @pytest.mark.slow
@@ -198,7 +198,7 @@ def test_default_model_branch_and_bound_picks_the_full_scoring_skill() -> None:
 
     model = LlamaCppLM("default", threads=2)
     steps = _planner_steps(model, tasks=1, max_steps=3)
-    other = LlamaCppLM("default", threads=2, n_batch=64)  # other batch splits (threads: checked on SmolLM2)
+    other = LlamaCppLM("default", threads=2, context_chunk=64)  # another batch layout (threads: checked on SmolLM2)
     _check_choices(model, steps, _noise_bound(model, steps, other, samples=1))
 
 

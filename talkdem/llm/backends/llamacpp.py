@@ -14,6 +14,16 @@ token such as SmolLM2. Scoring many continuations of one context (SayCan's inner
 3. When only the best candidate under sum scoring is wanted (SayCan's default), `best_continuation` finds it
    exactly by branch and bound over the candidates' token trie (`talkdem.llm.scoring.branch_bound`), running only
    the prefixes that score above the winner.
+
+The context is evaluated in chunks at fixed positions (`context_chunk`, 16 tokens: [0, 16), [16, 32), ...,
+then the rest), whatever the cache held before. llama.cpp's quantized kernels give a position other values
+depending on the batch it runs in (its length and its place in it): on the default model (Q4_K_M) the same
+step scored 0.12-0.46 nats apart when the cache had held the previous steps (each adding a few tokens) and
+when it started empty. With the batch layout a function of the context alone, a step's scores do not depend
+on which episode or step ran before it, so a run split into shards or resumed scores every step as one
+uninterrupted run does. The cost is the last partial chunk, run again at each step (8 tokens on average).
+Generation (CoT's hint, TOCC's rewrite) starts from an empty cache for the same reason, and the next scoring
+call then runs its prompt from the start.
 """
 
 from __future__ import annotations
@@ -95,6 +105,8 @@ class LlamaCppLM(LanguageModel):
         f32_kv_cache: keep keys and values in float32 (default). llama.cpp's default float16 cache makes scores
             depend on how tokens were split into batches (measured: 0.07 nats between the prefix-reusing and
             the from-scratch scorer on a SayCan prompt; float32: equal to 1e-12).
+        context_chunk: the context's batch layout (see the module docstring); the run header records it
+            (`model.scoring`), since scores differ between layouts.
     """
 
     supports_json_schema = True
@@ -105,6 +117,7 @@ class LlamaCppLM(LanguageModel):
         BackendOption("chat_template", "bool", "wrap generation prompts in the GGUF's chat template"),
         BackendOption("seed", "int", "the sampler's seed", minimum=0),
         BackendOption("f32_kv_cache", "bool", "float32 keys and values (false: llama.cpp's float16)"),
+        BackendOption("context_chunk", "int", "the context runs in chunks at fixed positions of this size", minimum=2),
     )
 
     def __init__(
@@ -116,7 +129,10 @@ class LlamaCppLM(LanguageModel):
         chat_template: bool = True,
         seed: int = 0,
         f32_kv_cache: bool = True,
+        context_chunk: int = 16,
     ) -> None:
+        if context_chunk < 2 or context_chunk > n_batch:
+            raise ValueError(f"context_chunk must be between 2 and n_batch ({n_batch}), got {context_chunk}")
         # OpenMP worker threads spin while waiting by default, which collapses throughput on a shared,
         # busy CPU (measured: 2.3x slower); it reads this once, when llama.cpp's library is loaded.
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
@@ -139,7 +155,10 @@ class LlamaCppLM(LanguageModel):
             type_v=_GGML_TYPE_F32 if f32_kv_cache else None,
             verbose=False,
         )
-        self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256)
+        self.context_chunk = context_chunk
+        self._canonical = 0
+        """Leading cached positions computed in full chunks at their fixed places (reusable as they are)."""
+        self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256, scoring=f"chunk-{context_chunk}")
         self.use_chat_template = chat_template and bool(self._llm.metadata.get("tokenizer.chat_template"))
         self.split = GGUFTokenSplit(self._llm)
         self._next_logprobs: NDArray[np.float64] | None = None
@@ -150,6 +169,7 @@ class LlamaCppLM(LanguageModel):
         """Drop the held context: the next call runs its prompt from scratch (as a new process would)."""
         self._llm.reset()
         self._next_logprobs = None
+        self._canonical = 0
 
     def _eval_tail(self, context: Sequence[int], path: Sequence[int], common: int) -> None:
         """Hold context + path, running `path[common:]` (the context and `path[:common]` are still held).
@@ -162,6 +182,8 @@ class LlamaCppLM(LanguageModel):
         start = len(context) + common
         if len(path) - common == 1:
             start -= 1
+            # The context's last position is run again here, outside its chunk: not reusable as it was.
+            self._canonical = min(self._canonical, start // self.context_chunk * self.context_chunk)
         self._llm.n_tokens = start
         self._eval([*context, *path][start:])
 
@@ -189,16 +211,28 @@ class LlamaCppLM(LanguageModel):
         held = llm.input_ids[: llm.n_tokens].tolist()
         if held == list(ids) and self._next_logprobs is not None:
             return self._next_logprobs
-        # Keep at least one token to evaluate, so that the last position's logits are fresh; two when there are
-        # two, so that the batch is never a single token (see `_eval_tail`).
-        keep = min(common_prefix_length(held, ids), max(len(ids) - 2, 0))
+        chunks = self._chunks(len(ids))
+        reusable = min(common_prefix_length(held, ids), self._canonical, len(ids) - 1)
+        keep = max(b for b in chunks[:-1] if b <= reusable)
         llm.n_tokens = keep
         self._next_logprobs = None
-        self._next_logprobs = _log_softmax(self._eval_last_row(ids[keep:]))
+        self._next_logprobs = _log_softmax(self._eval_last_row(ids, [b for b in chunks if b >= keep]))
+        # Full chunks stay reusable; the last one is run again next time (the context will have grown).
+        self._canonical = chunks[-2] if len(chunks) > 1 else 0
         return self._next_logprobs
 
-    def _eval_last_row(self, tokens: Sequence[int]) -> NDArray[np.float32]:
-        """Like `Llama.eval`, but asks llama.cpp for the last position's logits only.
+    def _chunks(self, length: int) -> list[int]:
+        """The fixed batch layout of a `length`-token context, as boundaries [0, c, 2c, ..., length]; a last
+        chunk of one token joins the one before (a one-token batch runs on other kernels, see `_eval_tail`)."""
+        size = self.context_chunk
+        bounds = [*range(0, length, size), length]
+        if len(bounds) > 2 and bounds[-1] - bounds[-2] == 1:
+            del bounds[-2]
+        return bounds
+
+    def _eval_last_row(self, ids: Sequence[int], bounds: Sequence[int]) -> NDArray[np.float32]:
+        """Run `ids[bounds[0]:]` in the batches `bounds` gives (positions in `ids`), asking llama.cpp for the
+        last position's logits only.
 
         With `logits_all=True`, `Llama.eval` computes and copies a vocabulary-sized row for every prompt token,
         which for a 600-token prompt and Qwen's 152k vocabulary is a quarter of the compute and 370 MB of
@@ -206,18 +240,14 @@ class LlamaCppLM(LanguageModel):
         wrappers (the same calls `Llama.eval` makes) with the logits flag on the last token only.
         """
         llm = self._llm
-        self.tokens_evaluated += len(tokens)
+        self.tokens_evaluated += bounds[-1] - bounds[0]
         llm._ctx.kv_cache_seq_rm(-1, llm.n_tokens, -1)
-        bounds = [*range(0, len(tokens), llm.n_batch), len(tokens)]
-        if len(bounds) > 2 and bounds[-1] - bounds[-2] == 1:
-            bounds[-2] -= 1  # no one-token batch at the end either (see `_eval_tail`)
         for start, end in itertools.pairwise(bounds):
-            batch = list(tokens[start:end])
-            n_past = llm.n_tokens
-            llm._batch.set_batch(batch=batch, n_past=n_past, logits_all=False)
+            batch = list(ids[start:end])
+            llm._batch.set_batch(batch=batch, n_past=start, logits_all=False)
             llm._ctx.decode(llm._batch)
-            llm.input_ids[n_past : n_past + len(batch)] = batch
-            llm.n_tokens += len(batch)
+            llm.input_ids[start:end] = batch
+            llm.n_tokens = end
         row = np.ctypeslib.as_array(llm._ctx.get_logits(), shape=(llm.n_vocab(),)).copy()
         llm.scores[llm.n_tokens - 1, :] = row  # the other rows of the context are not read again
         return row
@@ -304,6 +334,7 @@ class LlamaCppLM(LanguageModel):
             )
         llm.reset()
         self._next_logprobs = None
+        self._canonical = 0
         return scores
 
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]:
@@ -313,10 +344,10 @@ class LlamaCppLM(LanguageModel):
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
         outputs = []
         for request in requests:
-            # llama-cpp-python samples from the last decoded logits when the prompt is already held in full;
-            # after scoring those belong to a candidate, so drop the last held token to force a fresh pass.
-            self._llm.n_tokens = max(0, self._llm.n_tokens - 1)
-            self._next_logprobs = None
+            # From an empty cache: llama-cpp-python runs the prompt from its longest match with what the cache
+            # holds, in its own batches, so the text it generates would depend on the episode before (see the
+            # module docstring). This also keeps it from sampling from a candidate's logits left by scoring.
+            self.forget_context()
             options: dict[str, Any] = {
                 "max_tokens": request.max_new_tokens,
                 "temperature": request.temperature,
@@ -338,4 +369,5 @@ class LlamaCppLM(LanguageModel):
                 response = self._llm.create_completion(request.completion_text(), **options)
                 text = response["choices"][0]["text"]
             outputs.append(cut_at_stop(str(text), request.stop).strip())
+            self._canonical = 0  # what it left in the cache is not in our batch layout
         return outputs

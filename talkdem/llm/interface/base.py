@@ -31,9 +31,18 @@ class ModelIdentity:
     """Path, model id or served model name as the user gave it."""
     revision: str = ""
     """A content hash of the weights file (GGUF) or the hub revision, when known."""
+    scoring: str = ""
+    """How the backend lays out its computation where that moves scores (llama.cpp: the context's batch
+    layout), so that runs and cached scores of two layouts are never pooled ("" where it does not)."""
 
     def key(self) -> str:
-        return f"{self.backend}:{self.name}@{self.revision}"
+        base = f"{self.backend}:{self.name}@{self.revision}"
+        return f"{base}+{self.scoring}" if self.scoring else base
+
+    def to_header(self) -> dict[str, str]:
+        """The run header's `model` field."""
+        header = {"backend": self.backend, "name": self.name, "revision": self.revision}
+        return {**header, "scoring": self.scoring} if self.scoring else header
 
 
 @dataclass(frozen=True)
