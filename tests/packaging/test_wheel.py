@@ -91,6 +91,7 @@ def test_simulate_score_and_report_from_the_wheel(installed: Path) -> None:
     _ok(_talkdem(installed, "report", str(installed / "run"), "--out", str(installed / "report"), "--no-plots"))
     report = (installed / "report" / "report.md").read_text()
     assert "wheel-check" in report and str(installed) not in report
+    assert "Llama-3.1-8B-Instruct (paper)" in report, "the paper's figures ship with the wheel"
     _ok(_talkdem(installed, "view", str(installed / "run"), "--out", str(installed / "viewer")))
     page = (installed / "viewer" / "index.html").read_text()
     assert "TALKDEM_VIEWER_CHUNK" in page  # the viewer's script ships in the wheel
