@@ -131,8 +131,9 @@ class LlamaCppLM(LanguageModel):
         f32_kv_cache: bool = True,
         context_chunk: int = 16,
     ) -> None:
-        if context_chunk < 2 or context_chunk > n_batch:
-            raise ValueError(f"context_chunk must be between 2 and n_batch ({n_batch}), got {context_chunk}")
+        if context_chunk < 2 or context_chunk >= n_batch:
+            # A last chunk of one token joins the one before, so a chunk can be context_chunk + 1 tokens long.
+            raise ValueError(f"context_chunk must be between 2 and n_batch - 1 ({n_batch - 1}), got {context_chunk}")
         # OpenMP worker threads spin while waiting by default, which collapses throughput on a shared,
         # busy CPU (measured: 2.3x slower); it reads this once, when llama.cpp's library is loaded.
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
