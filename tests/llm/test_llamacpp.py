@@ -152,3 +152,11 @@ def test_default_model_scores_do_not_depend_on_what_the_cache_held() -> None:
     for scores in (after_other, after_previous):
         assert max(abs(a - b) for a, b in zip(scores, fresh, strict=True)) < 1e-3
         assert _argmax(scores) == _argmax(fresh)
+
+
+def test_the_context_layout_is_fixed_chunks_without_a_one_token_batch() -> None:
+    model = LlamaCppLM("smollm2-135m-instruct", threads=1, context_chunk=4)
+    assert [model._chunks(n) for n in (1, 3, 8, 9, 10)] == [[0, 1], [0, 3], [0, 4, 8], [0, 4, 9], [0, 4, 8, 10]]
+    assert model.identity.scoring == "chunk-4" and model.identity.key().endswith("+chunk-4")
+    with pytest.raises(ValueError, match="context_chunk must be between 2 and n_batch - 1"):
+        LlamaCppLM("smollm2-135m-instruct", context_chunk=512)
