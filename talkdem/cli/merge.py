@@ -26,6 +26,9 @@ def merge(args: argparse.Namespace) -> int:
     result = merge_runs(args.out, args.shards, allow_incomplete=args.allow_incomplete)
     print(f"{result.out}: {result.episodes} episodes from {len(args.shards)} shard directories")
     if result.missing:
-        print(f"INCOMPLETE: {len(result.missing)} episodes missing: {', '.join(result.missing)}", file=sys.stderr)
+        shown = ", ".join(result.missing[:10]) + (
+            f" and {len(result.missing) - 10} more" if len(result.missing) > 10 else ""
+        )
+        print(f"INCOMPLETE: {len(result.missing)} episodes missing: {shown}", file=sys.stderr)
         return 1
     return 0
