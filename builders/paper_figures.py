@@ -14,12 +14,13 @@ import hashlib
 import json
 import re
 import sys
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from pathlib import Path
 
 from talkdem.paths import repo_root
+from talkdem.report.paper import PaperTable
 
-__all__ = ["TABLES", "PaperTableError", "ReportedTable", "default_paper", "extract_tables", "main", "parse_tabular"]
+__all__ = ["TABLES", "PaperTableError", "default_paper", "extract_tables", "main", "parse_tabular"]
 
 TABLES = (
     "app:benchmark_results",
@@ -43,19 +44,6 @@ FORMAT = 1
 
 class PaperTableError(ValueError):
     """The LaTeX source lacks a table, or a table's layout is not the one this parser reads."""
-
-
-@dataclass(frozen=True)
-class ReportedTable:
-    """One table as the paper prints it: header and body cells as plain text (stars kept, markup gone)."""
-
-    label: str
-    """The paper's `\\label`."""
-    caption: str
-    """The caption's first sentence, as plain text."""
-    columns: tuple[str, ...]
-    rows: tuple[tuple[str, ...], ...]
-    """Body rows; a cell a `\\multirow` spans carries its label down."""
 
 
 def default_paper() -> Path:
@@ -125,7 +113,7 @@ def parse_tabular(body: str, label: str) -> tuple[tuple[str, ...], tuple[tuple[s
     return columns, tuple(rows)
 
 
-def extract_tables(tex: str, labels: tuple[str, ...] = TABLES) -> list[ReportedTable]:
+def extract_tables(tex: str, labels: tuple[str, ...] = TABLES) -> list[PaperTable]:
     """Each labelled table's first `tabular` after its `\\label` (the paper puts the label before it)."""
     tables = []
     for label in labels:
@@ -140,7 +128,7 @@ def extract_tables(tex: str, labels: tuple[str, ...] = TABLES) -> list[ReportedT
         assert spec is not None  # found just above
         columns, rows = parse_tabular(tex[start + spec.end() : end], label)
         caption = _caption(tex, at)
-        tables.append(ReportedTable(label, caption, columns, rows))
+        tables.append(PaperTable(label, caption, columns, rows))
     return tables
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from functools import cache
 from pathlib import Path
@@ -56,12 +56,16 @@ _WHO = (
 
 @dataclass(frozen=True)
 class PaperTable:
-    """One of the paper's tables as it prints it (cells are text; stars kept)."""
+    """One of the paper's tables as it prints it: cells as plain text, stars kept, markup gone
+    (`builders/paper_figures.py` makes them from the LaTeX source)."""
 
     label: str
+    """The paper's `\\label`."""
     caption: str
+    """The caption's first sentence."""
     columns: tuple[str, ...]
     rows: tuple[tuple[str, ...], ...]
+    """Body rows; a cell a `\\multirow` spans carries its label down."""
 
     def row(self, *keys: str) -> tuple[str, ...] | None:
         """The first row whose leading cells equal `keys` (compared as `_key` does)."""
@@ -166,33 +170,35 @@ def _strategy_retention(table: Table, paper: PaperFigures) -> Table:
     return _with(table, rows=rows, label=source.label, note=note)
 
 
+def _appended(table: Table, paper: PaperFigures, label: str, note: str, name: Callable[[str], str] = str) -> Table:
+    """`table` with the rows of the paper's table `label` (same columns) after its own, marked."""
+    source = paper.table(label)
+    rows = [(_marked(name(row[0])), *row[1:]) for row in source.rows]
+    return _with(table, rows=rows, label=source.label, note=note)
+
+
+def _our_hazard_label(printed: str) -> str:
+    return next((label for label in HAZARD_LABELS.values() if _key(label) == _key(printed)), printed)
+
+
 def _hazards(table: Table, paper: PaperFigures) -> Table:
-    source = paper.table("tab:hazard_cat")
-    rows = []
-    for row in source.rows:
-        name = next((label for label in HAZARD_LABELS.values() if _key(label) == _key(row[0])), row[0])
-        rows.append((_marked(name), *row[1:]))
     note = (
         "The paper's counts pool six open-weight models over 4,500 pattern episodes each; ours pool the runs "
         "shown: compare shares across categories and patterns, not counts."
     )
-    return _with(table, rows=rows, label=source.label, note=note)
+    return _appended(table, paper, "tab:hazard_cat", note, _our_hazard_label)
 
 
 def _errors(table: Table, paper: PaperFigures) -> Table:
-    source = paper.table("tab:error_by_pattern")
-    rows = [(_marked(row[0]), *row[1:]) for row in source.rows]
     note = (
         "The paper's are a human-annotated sample (three failures per model and condition, 270 in all); ours "
         "classify every such failure automatically."
     )
-    return _with(table, rows=rows, label=source.label, note=note)
+    return _appended(table, paper, "tab:error_by_pattern", note)
 
 
 def _plan_length(table: Table, paper: PaperFigures) -> Table:
-    source = paper.table("tab:plan_length")
-    rows = [(_marked(row[0]), *row[1:]) for row in source.rows]
-    return _with(table, rows=rows, label=source.label, note="The paper pools six open-weight models.")
+    return _appended(table, paper, "tab:plan_length", "The paper pools six open-weight models.")
 
 
 def paper_strategy_table(paper: PaperFigures | None = None) -> Table:
