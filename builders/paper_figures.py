@@ -18,26 +18,12 @@ from dataclasses import asdict
 from pathlib import Path
 
 from talkdem.paths import repo_root
-from talkdem.report.paper import PaperTable
+from talkdem.report.paper import PAPER_TABLES, PaperTable
 
 __all__ = ["TABLES", "PaperTableError", "default_paper", "extract_tables", "main", "parse_tabular"]
 
-TABLES = (
-    "app:benchmark_results",
-    "app:intensity_results",
-    "tab:mitigation_llama8b",
-    "tab:mitigation_llama70b",
-    "tab:mitigation_qwen7b",
-    "tab:mitigation_qwen72b",
-    "tab:mitigation_gemma9b",
-    "tab:mitigation_ministral8b",
-    "tab:mitigation_retention_model",
-    "tab:mitigation_retention_pattern",
-    "tab:plan_length",
-    "tab:error_by_pattern",
-    "tab:hazard_cat",
-)
-"""The paper's labels of the tables the report sets beside its own."""
+TABLES = PAPER_TABLES
+"""The paper's labels of the tables the report sets beside its own (declared where they are read)."""
 
 FORMAT = 1
 

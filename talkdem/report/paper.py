@@ -21,8 +21,10 @@ from talkdem.report.tables import HAZARD_LABELS, PATTERN_LABELS, Table
 from talkdem.schema import LEVELS, PATTERN_CONFIGS
 
 __all__ = [
+    "MITIGATION_TABLES",
     "OPEN_WEIGHT_MODELS",
     "PAPER_MARK",
+    "PAPER_TABLES",
     "PaperFigures",
     "PaperTable",
     "beside_paper",
@@ -36,7 +38,7 @@ PAPER_MARK = " (paper)"
 
 _FILE = Path(__file__).with_name("paper_reported.json")
 
-_MITIGATION_TABLES = (
+MITIGATION_TABLES = (
     "tab:mitigation_llama8b",
     "tab:mitigation_llama70b",
     "tab:mitigation_qwen7b",
@@ -44,6 +46,18 @@ _MITIGATION_TABLES = (
     "tab:mitigation_gemma9b",
     "tab:mitigation_ministral8b",
 )
+"""The paper's per-model strategy tables, one per open-weight model."""
+PAPER_TABLES = (
+    "app:benchmark_results",
+    "app:intensity_results",
+    *MITIGATION_TABLES,
+    "tab:mitigation_retention_model",
+    "tab:mitigation_retention_pattern",
+    "tab:plan_length",
+    "tab:error_by_pattern",
+    "tab:hazard_cat",
+)
+"""The labels of the paper's tables this module sets beside ours (what `builders/paper_figures.py` extracts)."""
 OPEN_WEIGHT_MODELS = 6
 """The paper's mitigation experiments ran on six open-weight models (one table each)."""
 
@@ -205,7 +219,7 @@ def paper_strategy_table(paper: PaperFigures | None = None) -> Table:
     """The paper's success rate per condition under each strategy, averaged over its six open-weight models
     (computed here from its six per-model tables), in the layout of the report's per-model strategy tables."""
     paper = paper or load_paper_figures()
-    sources = [paper.table(label) for label in _MITIGATION_TABLES]
+    sources = [paper.table(label) for label in MITIGATION_TABLES]
     strategies = sources[0].columns[2:]
     keys = [("Clean", "–")] + [(PATTERN_LABELS[p], f"L{level}") for p in PATTERN_CONFIGS for level in LEVELS]
     rows = []
