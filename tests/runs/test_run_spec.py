@@ -40,7 +40,16 @@ def _data_copy(tmp_path: Path) -> Path:
 def _scripted(out: Path, data: Path | None, *extra: str, delay: float = 0.0) -> subprocess.Popen[str]:
     env = {**os.environ, **({"TALKDEM_DATA_DIR": str(data)} if data else {})}
     command = [sys.executable, str(SCRIPT), str(delay), *ARGS, "--no-progress", "--out", str(out), *extra]
-    return subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    # SIGINT as a foreground process has it (where Ctrl-C reaches it): a test run started in the background
+    # inherits it ignored, and the Ctrl-C test below would then see a run that never got the signal.
+    return subprocess.Popen(
+        command,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
 
 
 def _finish(process: subprocess.Popen[str]) -> tuple[int, str, str]:
