@@ -121,9 +121,8 @@ def extract_tables(tex: str, labels: tuple[str, ...] = TABLES) -> list[PaperTabl
 def _caption(tex: str, label_at: int) -> str:
     """The caption nearest before the label, within the same table environment."""
     begin = tex.rfind("\\begin{table}", 0, label_at)
-    found = re.search(r"\\caption\{\s*((?:[^{}]|\{(?:[^{}]|\{[^{}]*\})*\})*)\}", tex[begin:label_at])
-    if found is None:
-        found = re.search(r"\\caption\{\s*((?:[^{}]|\{(?:[^{}]|\{[^{}]*\})*\})*)\}", tex[label_at : label_at + 3000])
+    caption = re.compile(r"\\caption" + _BRACED)
+    found = caption.search(tex[begin:label_at]) or caption.search(tex[label_at : label_at + 3000])
     text = _plain(found.group(1)) if found else ""
     return text.split(". ")[0].rstrip(".") + "." if text else ""
 

@@ -58,7 +58,7 @@ PAPER_TABLES = (
     "tab:hazard_cat",
 )
 """The labels of the paper's tables this module sets beside ours (what `builders/paper_figures.py` extracts)."""
-OPEN_WEIGHT_MODELS = 6
+OPEN_WEIGHT_MODELS = len(MITIGATION_TABLES)
 """The paper's mitigation experiments ran on six open-weight models (one table each)."""
 
 _WHO = (

@@ -12,6 +12,7 @@ import io
 import json
 import math
 import re
+import statistics
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -117,12 +118,8 @@ def _signed_pp(value: float, p_value: float) -> str:
 
 def _detectable(tests: Sequence[TestResult]) -> str:
     """The median over `tests` of the smallest change each could detect (80% power), in points."""
-    values = sorted(v for v in (detectable_difference(t) for t in tests) if not math.isnan(v))
-    if not values:
-        return "–"
-    middle = len(values) // 2
-    median = values[middle] if len(values) % 2 else (values[middle - 1] + values[middle]) / 2
-    return f"±{100 * median:.1f}"
+    values = [v for v in (detectable_difference(t) for t in tests) if not math.isnan(v)]
+    return f"±{100 * statistics.median(values):.1f}" if values else "–"
 
 
 _DETECTABLE = (
