@@ -87,7 +87,6 @@ class TalkDemEnv(gym.Env[str, str]):
         self._person: SimulatedPerson | None = None
         self.dialogue: list[Exchange] = []
         """The questions asked and answered in the current episode."""
-        self._actions = 0
         self.selection = tuple(episodes) if episodes is not None else load_instructions()
         if not self.selection:
             raise ValueError("TalkDem-v0: the episode selection is empty")
@@ -128,7 +127,7 @@ class TalkDemEnv(gym.Env[str, str]):
         self.instruction, self.trace = instruction, None
         self._episode = self.backend.start(task, max_steps=self.max_steps)
         self._person = SimulatedPerson(self.clarify, instruction, task) if self.clarify != "none" else None
-        self.dialogue, self._actions = [], 0
+        self.dialogue = []
         show = self.show_objects or bool((options or {}).get("show_objects"))
         objects = scene_objects(instruction.task_id) if show else ()
         observation = instruction.text + (f"\nObjects in the scene: {', '.join(objects)}." if objects else "")
@@ -157,7 +156,6 @@ class TalkDemEnv(gym.Env[str, str]):
         if self._person is not None and is_question(text) and len(self.dialogue) < self.clarify_budget:
             return self._ask(text)
         record = self._episode.step(text)
-        self._actions += 1
         observation = observation_of(record)
         self._last = observation
         info: dict[str, Any] = {
@@ -189,7 +187,8 @@ class TalkDemEnv(gym.Env[str, str]):
     def _ask(self, question: str) -> tuple[str, float, bool, bool, dict[str, Any]]:
         """A question: the simulated person's answer is the observation; the simulator does not move."""
         assert self._person is not None and self.instruction is not None
-        exchange = self._person.ask(question, self._actions)
+        assert self._episode is not None
+        exchange = self._person.ask(question, len(self._episode.steps))
         self.dialogue.append(exchange)
         self._last = exchange.answer
         info: dict[str, Any] = {

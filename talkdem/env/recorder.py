@@ -8,7 +8,6 @@ disk are kept, and `recorded` says which ids to skip.
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Sequence
 from contextlib import ExitStack
 from pathlib import Path
@@ -87,8 +86,7 @@ class EpisodeRecorder:
             raise ValueError(f"episode '{instruction.id}': the trace is of task '{trace.task_id}'")
         record = EpisodeRecord.from_trace(instruction, tuple(plan), trace, notes=notes)
         if dialogue is not None:
-            exchanges = [exchange.to_json() for exchange in dialogue]
-            record = dataclasses.replace(record, trace={**record.trace, "dialogue": exchanges})
+            record = record.with_dialogue(dialogue)
         self._writer.write(record)
         self.recorded.add(instruction.id)
         return record

@@ -24,6 +24,9 @@ from talkdem.schema import CLEAN, Condition, parse_instruction_id
 from talkdem.serialization import to_jsonable
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from talkdem.clarify import Exchange
     from talkdem.instructions import Instruction
     from talkdem.sim import EpisodeTrace
 
@@ -332,6 +335,12 @@ class EpisodeRecord:
 
     def to_json(self) -> dict[str, Any]:
         return dict(to_jsonable(self))
+
+    def with_dialogue(self, dialogue: Sequence[Exchange]) -> EpisodeRecord:
+        """This record with a clarification episode's questions and answers in `trace.dialogue` (an empty list:
+        asked nothing). The plan keeps the actions alone, so replaying it (`verify-run`, `score`) executes what
+        was executed."""
+        return dataclasses.replace(self, trace={**self.trace, "dialogue": [x.to_json() for x in dialogue]})
 
     def to_line(self) -> str:
         return json.dumps(self.to_json(), ensure_ascii=False, sort_keys=False)

@@ -75,12 +75,7 @@ def episode_record(
     )
     if thoughts:  # ReAct: the thought before each step, beside the steps it led to
         record = dataclasses.replace(record, trace={**record.trace, "thoughts": list(result.generated)})
-    if result.dialogue is not None:
-        # Clarification: every question and answer, beside the steps (an empty list: asked nothing). The plan
-        # keeps the actions alone, so replaying it (`verify-run`, `score`) executes what was executed.
-        dialogue = [exchange.to_json() for exchange in result.dialogue]
-        record = dataclasses.replace(record, trace={**record.trace, "dialogue": dialogue})
-    return record
+    return record.with_dialogue(result.dialogue) if result.dialogue is not None else record
 
 
 Planner = SayCanPlanner | ReActPlanner
