@@ -19,6 +19,12 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("spec", type=Path, metavar="SPEC", help="the sweep's YAML file (README, 'Sweeps')")
     parser.add_argument("--out", type=folder_path, help="the output root (default: the spec's `out`)")
+    parser.add_argument(
+        "--only",
+        metavar="RUN[,RUN...]",
+        help="run (or describe) only these runs of the spec, by folder name (as --dry-run lists them); the "
+        "others are left as they are",
+    )
     parser.add_argument("--dry-run", action="store_true", help="print the runs and their commands; run nothing")
     parser.add_argument(
         "--workers",
@@ -54,9 +60,11 @@ def register(subparsers: Any) -> None:
 
 
 def sweep(args: argparse.Namespace) -> int:
-    from talkdem.sweeps import describe, load_sweep, run_sweep
+    from talkdem.sweeps import describe, load_sweep, run_sweep, select_runs
 
     spec = load_sweep(args.spec, args.out)
+    if args.only is not None:
+        spec = select_runs(spec, [name.strip() for name in args.only.split(",") if name.strip()])
     if args.dry_run:
         print(describe(spec, workers=args.workers, threads=args.threads, shards=args.shards, ray=args.ray is not None))
         return 0

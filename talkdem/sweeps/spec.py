@@ -30,7 +30,7 @@ import difflib
 import functools
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +43,7 @@ __all__ = [
     "SweepSpecError",
     "load_sweep",
     "run_parser",
+    "select_runs",
 ]
 
 MODEL_ARGS = ("base_url", "tokenizer", "scoring_api", "prompt_format", "bos", "concurrency", "timeout")
@@ -411,3 +412,18 @@ def load_sweep(path: Path, out: Path | None = None) -> SweepSpec:
                 )
             )
     return SweepSpec(path, out, tuple(runs), conditions, tasks, shards)
+
+
+def select_runs(spec: SweepSpec, names: Sequence[str]) -> SweepSpec:
+    """`spec` with only the runs named (their folder names, in the spec's order), so that one sitting can run a
+    few of a grid's runs into the same directories the whole grid writes; an unknown name is refused."""
+    known = [run.name for run in spec.runs]
+    if not names:
+        raise SweepSpecError(f"{spec.path}: no run named to select; its runs are {', '.join(known)}")
+    for name in names:
+        if name not in known:
+            close = difflib.get_close_matches(name, known, n=1)
+            hint = f" (did you mean '{close[0]}'?)" if close else ""
+            raise SweepSpecError(f"{spec.path}: no run named '{name}'{hint}; its runs are {', '.join(known)}")
+    wanted = set(names)
+    return replace(spec, runs=tuple(run for run in spec.runs if run.name in wanted))

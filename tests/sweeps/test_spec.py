@@ -191,3 +191,22 @@ def test_ray_missing_is_one_line_naming_the_extra(tmp_path: Path) -> None:
     ]
     assert f"pip install '{requirement}'" in result.stderr and "pip install -e '.[ray]'" in result.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_only_keeps_the_named_runs_in_the_same_directories(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _spec(tmp_path, GOOD)
+    whole = {run.name: run for run in load_sweep(path).runs}
+    assert main(["sweep", str(path), "--dry-run", "--only", "s7-care,smollm2-135m-instruct-vanilla"]) == 0
+    printed = capsys.readouterr().out
+    assert printed.splitlines()[0].endswith(f"2 runs, 8 episodes, into {tmp_path / 'out'}")
+    listed = [line.split(":")[0].strip() for line in printed.splitlines()[1:] if not line.startswith("    ")]
+    # the spec's order and the whole grid's folders, not the order given
+    assert listed == [str(whole["smollm2-135m-instruct-vanilla"].run_dir), str(whole["s7-care"].run_dir)]
+
+
+def test_only_refuses_a_name_the_spec_does_not_have(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = _spec(tmp_path, GOOD)
+    assert main(["sweep", str(path), "--dry-run", "--only", "s7-cares"]) == 2
+    error = capsys.readouterr().err
+    assert len(error.strip().splitlines()) == 1 and "Traceback" not in error, error
+    assert f"{path}: no run named 's7-cares' (did you mean 's7-care'?)" in error
