@@ -228,11 +228,12 @@ def _versus(method: dict[str, float], reference: dict[str, float]) -> TestResult
     return paired_ttest([method[t] for t in common], [reference[t] for t in common])
 
 
-def _starred(value: float, test: TestResult | None) -> str:
-    """Stars only where the reference strategy is significantly higher (the paper's convention)."""
-    if test is None or math.isnan(test.mean_difference) or test.mean_difference >= 0:
-        return _pct(value)
-    return _pct(value) + stars(test.p_value)
+def _marked(test: TestResult | None) -> str:
+    """Stars where the reference strategy is significantly higher (the paper's convention); a dagger where this
+    strategy is significantly higher than the reference, which the paper's tables had no case of but ours may."""
+    if test is None or math.isnan(test.mean_difference) or math.isnan(test.p_value) or test.p_value >= 0.05:
+        return ""
+    return stars(test.p_value) if test.mean_difference < 0 else "†"
 
 
 def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE", *, by: str = "model") -> Table | None:
@@ -251,26 +252,29 @@ def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE",
     else:
         groups = [(PATTERN_LABELS[p], list(runs), p, p) for p in PATTERN_CONFIGS]
     for name, group, task_key, retention_key in groups:
-        cells = []
+        values: list[float] = []
+        marks: list[str] = []
         ref_runs = [r for r in group if r.strategy == reference]
         ref_tasks = _mean_task_retention(ref_runs, task_key)
         for strategy in strategies:
             chosen = [r for r in group if r.strategy == strategy]
-            values = [_retention(r, retention_key) for r in chosen]
-            finite = [v for v in values if not math.isnan(v)]
-            value = sum(finite) / len(finite) if finite else math.nan
+            per_run = [_retention(r, retention_key) for r in chosen]
+            finite = [v for v in per_run if not math.isnan(v)]
+            values.append(sum(finite) / len(finite) if finite else math.nan)
             test = None
             if strategy != reference and ref_runs and chosen:
                 test = _versus(_mean_task_retention(chosen, task_key), ref_tasks)
-            bold = strategy == reference and not math.isnan(value)  # bold names the reference; "–" stays plain
-            cells.append(f"**{_pct(value)}**" if bold else _starred(value, test))
-        rows.append((name, *cells))
+            marks.append(_marked(test))
+        # Bold marks the row's best, as in the success tables: bolding the reference would single it out
+        # even where another strategy retains more.
+        rows.append((name, *(cell + mark for cell, mark in zip(_bold_best(values, 1), marks, strict=True))))
     what = "model" if by == "model" else "pattern"
     return Table(
         f"strategy_retention_by_{what}",
         f"Clean-conditioned retention under each strategy, by {what}",
-        f"Clean-conditioned retention (%) per strategy. Stars: two-sided paired t-test of each strategy against "
-        f"{reference} (bold) on per-task retention, where {reference} is significantly higher: {_STARS}",
+        f"Clean-conditioned retention (%) per strategy; the best in each row is in bold. Two-sided paired t-test of "
+        f"each strategy against {reference} on per-task retention: stars where {reference} is significantly higher "
+        f"({_STARS}), † where the strategy is significantly higher than {reference} (p<0.05).",
         ("Model" if by == "model" else "Pattern", *strategies),
         tuple(rows),
     )

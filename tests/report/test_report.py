@@ -9,7 +9,7 @@ import pytest
 from metrics_helpers import BOOK, COOL, HEAT, LAMP, clean_id, failing, pattern_id, reference, write_run
 
 from talkdem.cli import main
-from talkdem.report import all_tables, score_runs
+from talkdem.report import all_tables, score_runs, strategy_retention_table
 from talkdem.schema import PATTERN_CONFIGS
 
 TASKS = (BOOK, LAMP, HEAT, COOL)
@@ -47,6 +47,10 @@ def test_tables_have_the_paper_layouts(run_dirs: list[Path]) -> None:
     assert retention.rows[0] == ("Successful clean tasks (n)", "", "4", "4")
     assert retention.rows[3] == ("", "L3", "25.0", "100.0")
     assert tables["strategy_retention_by_model"].rows[0][1:] == ("75.0", "**100.0**")
+    # Bold is the row's best, not the reference: against Vanilla as reference, CARE's higher retention stays bold
+    # (4 tasks are too few for a significant difference: no star, no dagger)
+    against_vanilla = strategy_retention_table(runs, "Vanilla")
+    assert against_vanilla is not None and against_vanilla.rows[0][1:] == ("75.0", "**100.0**")
     per_strategy = tables["strategies_1"]
     assert per_strategy.rows[0][2:] == ("100.00", "100.00"), "a tie has no best: nothing bold"
     assert per_strategy.rows[3][2:] == ("25.00", "**100.00**")  # Referential Imprecision L3
@@ -110,3 +114,13 @@ def test_cli_leaderboard_writes_results_and_a_static_page(run_dirs: list[Path], 
 def test_report_on_a_missing_run_directory_fails_cleanly(tmp_path: Path, capsys) -> None:  # type: ignore[no-untyped-def]
     assert main(["report", str(tmp_path / "absent")]) == 2
     assert "not a run directory" in capsys.readouterr().err
+
+
+def test_retention_marks_name_the_direction_of_a_significant_difference() -> None:
+    from talkdem.metrics.stats import TestResult
+    from talkdem.report.tables import _marked
+
+    assert _marked(TestResult(-0.2, -4.0, 0.004, 30)) == "**", "reference higher: the paper's stars"
+    assert _marked(TestResult(0.2, 4.0, 0.004, 30)) == "†", "the strategy higher than the reference: a dagger"
+    assert _marked(TestResult(0.2, 1.0, 0.3, 30)) == ""
+    assert _marked(None) == ""
