@@ -25,7 +25,7 @@ __all__ = ["clarification_table", "clarify_mode", "paired_without"]
 
 def clarify_mode(run: ScoredRun) -> str:
     """`oracle`, `in-pattern`, or `none` (also for runs from before clarification existed)."""
-    return str(run.header.config.get("clarify", "none"))
+    return run.clarify
 
 
 def _same_planning(a: ScoredRun, b: ScoredRun) -> bool:

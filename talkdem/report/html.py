@@ -94,7 +94,7 @@ def _runs_table(runs: Sequence[ScoredRun]) -> str:
             run.label + (" (reference plans, not ranked)" if run.is_reference else ""),
             model["name"] or "–",
             (model["revision"][:12] or "–"),
-            run.strategy,
+            run.setting,
             run.header.planner,
             run.coverage.describe(),
             f"{run.scores.n_episodes:,}",

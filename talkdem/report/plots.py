@@ -251,14 +251,15 @@ def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
     polygon per strategy. Only planner runs with a non-zero value take part; the returned note says which
     runs were left out, and why (an empty figure says so in words)."""
     plt = _pyplot()
-    planner_runs = [r for r in runs if r.from_planner]
+    # A clarification run is not another strategy: it would draw over its strategy's polygon without questions.
+    planner_runs = [r for r in runs if r.from_planner and r.clarify == "none"]
     zero = [r for r in planner_runs if not any(_pct(r.scores.success_rate[k]) > 0 for k in ("clean", *PATTERN_CONFIGS))]
     kept = [r for r in planner_runs if r not in zero]
     notes = []
     if len(planner_runs) < len(runs):
         notes.append(
             f"{len(runs) - len(planner_runs)} run(s) without a prompting strategy (external or reference "
-            "plans) are not strategies"
+            "plans) or with questions (see the clarification table) are not compared as strategies"
         )
     if zero:
         notes.append("left out, every success rate 0: " + ", ".join(_one_line(r.label) for r in zero))

@@ -61,6 +61,17 @@ class ScoredRun:
         return strategy_label(self.header.strategy)
 
     @property
+    def clarify(self) -> str:
+        """`oracle`, `in-pattern`, or `none` (also for runs from before clarification existed)."""
+        return str(self.header.config.get("clarify", "none"))
+
+    @property
+    def setting(self) -> str:
+        """The strategy as a table names it: `Vanilla`, or `Vanilla + ask (oracle)` for a clarification run,
+        so that a run with questions is never read as the same strategy without them."""
+        return self.strategy if self.clarify == "none" else f"{self.strategy} + ask ({self.clarify})"
+
+    @property
     def from_planner(self) -> bool:
         """False for plans written elsewhere (`talkdem score`, the oracle): they have no prompting strategy."""
         return self.header.planner != "external"

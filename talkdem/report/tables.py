@@ -137,7 +137,7 @@ def success_table(runs: Sequence[ScoredRun]) -> Table:
         tests = [s.sr_change_test[p] for p in PATTERN_CONFIGS]
         changes = [_signed_pp(s.sr_change[p], t.p_value) for p, t in zip(PATTERN_CONFIGS, tests, strict=True)]
         clean = _pct(s.success_rate["clean"])
-        rows.append((run.model, run.strategy, str(s.n_episodes), clean, *changes, _detectable(tests)))
+        rows.append((run.model, run.setting, str(s.n_episodes), clean, *changes, _detectable(tests)))
     return Table(
         "success",
         "Task success rate: clean and change under each pattern",
@@ -410,8 +410,10 @@ def plan_length_table(runs: Sequence[ScoredRun]) -> Table:
 def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE", *, paper: bool = True) -> list[Table]:
     """Every table, in the paper's order; with `paper`, the paper's own figures beside ours
     (`talkdem.report.paper`), marked as the paper's."""
-    # Strategies are compared among planner runs only: an oracle or external column would read as a strategy.
-    planner_runs = [r for r in runs if r.from_planner]
+    # Strategies are compared among planner runs without questions only: an oracle or external column would read
+    # as a strategy, and a clarification run would be pooled with its strategy's run without questions (it has
+    # its own comparison, the clarification table).
+    planner_runs = [r for r in runs if r.from_planner and r.clarify == "none"]
     tables = [success_table(runs), retention_table(runs), *strategy_success_tables(planner_runs)]
     for by in ("model", "pattern"):
         found = strategy_retention_table(planner_runs, reference_strategy, by=by) if planner_runs else None

@@ -41,6 +41,14 @@ def test_the_clarification_table_pairs_the_run_without(runs: dict[str, Path]) ->
     assert by_group["clean"][10] == "4"  # two questions on each of the two clean instructions
 
 
+def test_a_clarification_run_is_never_read_as_its_strategy(runs: dict[str, Path]) -> None:
+    scored = score_runs([runs["none"], runs["oracle"]], bootstrap=0)
+    tables = {t.name: t for t in all_tables(scored, paper=False)}
+    assert [row[1] for row in tables["success"].rows] == [scored[0].strategy, f"{scored[0].strategy} + ask (oracle)"]
+    # the same strategy with and without questions is not a strategy comparison (the clarification table is)
+    assert not [name for name in tables if name.startswith("strateg")]
+
+
 def test_leaderboard_records_and_page_carry_clarification_only_when_present(runs: dict[str, Path]) -> None:
     from talkdem.leaderboard.page import render_html
     from talkdem.leaderboard.records import results_record
