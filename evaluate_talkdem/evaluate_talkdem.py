@@ -63,7 +63,9 @@ Returns:
     `plan_length/<pattern or all>/{n,clean,transformed,delta,p}`; `errors/<type>`;
     `ci_low/<measure>`, `ci_high/<measure>`; `n_episodes`, `n_tasks`. With `questions`:
     `clarify/{sr,questions,help_rate,gain_per_question,retention}/<all, clean, pattern or pattern:level>`,
-    `clarify/unneeded_questions`, `clarify/unneeded_per_clean_episode`.
+    `clarify/unneeded_questions`, `clarify/unneeded_per_clean_episode`; with `without` also
+    `clarify/{gained,lost}_{when_asked,without_asking}/<group>`: paired episodes that succeeded only with
+    (gained) or only without (lost) clarification, split by whether the episode asked a question.
 Raises:
     ValueError (talkdem.metrics.ScoringInputError) naming the offending ids for: empty input, unknown
     or duplicate ids, plans that are not lists of strings (checked as given, before the features cast

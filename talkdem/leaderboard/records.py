@@ -84,8 +84,7 @@ def _clarification(run: ScoredRun) -> dict[str, Any] | None:
     """The clarification block of a run that could ask (None otherwise): numbers only, as every results
     block (the Hub template scales them), and the run's own measures only, since a results record stands
     alone (the gain over a run without clarification is in the report)."""
-    mode = str(run.header.config.get("clarify", "none"))
-    if mode == "none":
+    if run.clarify == "none":
         return None
     from talkdem.metrics import clarification_scores
     from talkdem.runs.store import read_episodes

@@ -87,6 +87,12 @@ class ClarificationRow:
     without questions."""
     retention: float
     """Clean-conditioned retention with clarification (NaN for `clean` and for groups without clean pairs)."""
+    flips_when_asked: tuple[int, int] | None = None
+    """(gained, lost): paired episodes with at least one question that succeeded where the run without
+    clarification failed, and the reverse; None without a paired run."""
+    flips_without_asking: tuple[int, int] | None = None
+    """The same for paired episodes that asked nothing. Offering questions changes the prompt, so these move
+    too: only the flips when asked can be put down to the questions and their answers."""
 
 
 @dataclass(frozen=True)
@@ -107,6 +113,10 @@ class ClarificationScores:
             out[f"clarify/help_rate/{group}"] = row.help_rate
             out[f"clarify/gain_per_question/{group}"] = row.gain_per_question
             out[f"clarify/retention/{group}"] = row.retention
+            for name, flips in (("when_asked", row.flips_when_asked), ("without_asking", row.flips_without_asking)):
+                gained, lost = flips if flips is not None else (math.nan, math.nan)
+                out[f"clarify/gained_{name}/{group}"] = float(gained)
+                out[f"clarify/lost_{name}/{group}"] = float(lost)
         out["clarify/unneeded_questions"] = float(self.unneeded_questions)
         out["clarify/unneeded_per_clean_episode"] = self.unneeded_per_clean_episode
         return out
@@ -171,6 +181,12 @@ def clarification_scores(
         if paired and asked > 0:
             change = sum(r.success - baseline[r.episode_id] for r, _ in paired) / len(paired)
             gain = change / asked
+        flips: dict[bool, tuple[int, int]] = {}
+        for with_questions in (True, False):
+            subset = [r for r, q in paired if (q > 0) == with_questions]
+            gained = sum(r.success and not baseline[r.episode_id] for r in subset)
+            lost = sum(baseline[r.episode_id] and not r.success for r in subset)
+            flips[with_questions] = (gained, lost)
         rows[group] = ClarificationRow(
             group=group,
             episodes=n,
@@ -179,6 +195,8 @@ def clarification_scores(
             help_rate=sum(q > 0 for q in questions) / n,
             gain_per_question=gain,
             retention=retention.get(group, math.nan),
+            flips_when_asked=flips[True] if without is not None else None,
+            flips_without_asking=flips[False] if without is not None else None,
         )
     clean = [asked_questions(r) for r in records if r.pattern == CLEAN]
     return ClarificationScores(

@@ -70,6 +70,10 @@ def _change(records: Sequence[EpisodeRecord], without: dict[str, bool], group: s
     return f"{100 * test.mean_difference:+.1f}{stars(test.p_value)}"
 
 
+def _flips(flips: tuple[int, int] | None) -> str:
+    return "–" if flips is None else f"+{flips[0]}/−{flips[1]}"
+
+
 def clarification_table(runs: Sequence[ScoredRun]) -> Table | None:
     """Clarification per run and group (None when no run of the report asked questions)."""
     from talkdem.runs.store import read_episodes
@@ -101,6 +105,8 @@ def clarification_table(runs: Sequence[ScoredRun]) -> Table | None:
                     _pct(row.help_rate),
                     _number(100 * row.gain_per_question) if not math.isnan(row.gain_per_question) else "–",
                     _pct(row.retention),
+                    _flips(row.flips_when_asked),
+                    _flips(row.flips_without_asking),
                     str(scores.unneeded_questions) if group == "clean" else "",
                 )
             )
@@ -115,7 +121,10 @@ def clarification_table(runs: Sequence[ScoredRun]) -> Table | None:
         "differences, standard errors clustered by task (*p<0.05, **p<0.01, ***p<0.001); questions per "
         "episode; help rate (% of episodes with a question); "
         "success gained per question (points per question asked); clean-conditioned retention (%) with "
-        "clarification; unneeded questions: asked on clean instructions.",
+        "clarification; flips: paired episodes that succeed only with clarification (+) or only without (−), "
+        "among those that asked a question and those that asked none (offering the questions changes the "
+        "prompt, so episodes that ask nothing can change too: only the flips after asking are the questions' "
+        "doing); unneeded questions: asked on clean instructions.",
         (
             "Run",
             "Answers",
@@ -127,6 +136,8 @@ def clarification_table(runs: Sequence[ScoredRun]) -> Table | None:
             "Help rate",
             "Gain/question",
             "Retention",
+            "Flips, asked",
+            "Flips, not asked",
             "Unneeded",
         ),
         tuple(rows),

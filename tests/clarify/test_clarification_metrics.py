@@ -96,6 +96,22 @@ def test_success_gained_per_question_pairs_by_id() -> None:
     assert flat["clarify/unneeded_questions"] == 1.0
 
 
+def test_flips_separate_what_the_questions_did_from_what_offering_them_did() -> None:
+    unpaired = clarification_scores(RUN)
+    assert unpaired is not None and unpaired.rows["all"].flips_when_asked is None
+    assert math.isnan(unpaired.flat()["clarify/gained_when_asked/all"])
+    # t2 solves intrusion:1 without clarification; with it, it asks nothing and fails: a flip without asking
+    without = [*WITHOUT[:3], _record("t2", "intrusion:1", True, None), WITHOUT[4]]
+    scores = clarification_scores(RUN, without)
+    assert scores is not None
+    # gained after asking: t1 intrusion:1 (2 questions) and t2 clean (1 question); t1 intrusion:2 asked, no change
+    assert scores.rows["all"].flips_when_asked == (2, 0)
+    assert scores.rows["all"].flips_without_asking == (0, 1)
+    assert scores.rows["intrusion:2"].flips_when_asked == (0, 0)  # t2 has no pair there
+    flat = scores.flat()
+    assert (flat["clarify/gained_when_asked/intrusion:1"], flat["clarify/lost_without_asking/intrusion:1"]) == (1, 1)
+
+
 def test_stored_records_without_the_field_still_load() -> None:
     stored = _record("t1", "clean", True, None).to_json()
     assert EpisodeRecord.from_json(stored).trace == {}

@@ -38,7 +38,9 @@ def test_the_clarification_table_pairs_the_run_without(runs: dict[str, Path]) ->
     assert by_group["all"][3] == "4"
     assert by_group["all"][6] == "2.00"  # the test model asks both of its questions in every episode
     assert by_group["all"][5] != "–"  # paired with the run without clarification
-    assert by_group["clean"][10] == "4"  # two questions on each of the two clean instructions
+    assert by_group["clean"][12] == "4"  # two questions on each of the two clean instructions
+    assert by_group["all"][11] == "+0/−0", "every episode asked: no flip can be without a question"
+    assert by_group["all"][10].startswith("+")
 
 
 def test_a_clarification_run_is_never_read_as_its_strategy(runs: dict[str, Path]) -> None:
