@@ -180,7 +180,7 @@ def _strategy_retention(table: Table, paper: PaperFigures) -> Table:
     source = paper.table("tab:mitigation_retention_model" if by_model else "tab:mitigation_retention_pattern")
     strategies = table.columns[1:]
     rows = [(_marked(row[0]), *_strategy_cells(source, row, strategies)) for row in source.rows]
-    note = "The paper's stars test each strategy against CARE over its 300 tasks."
+    note = "The paper's stars test each strategy against CARE over its 300 tasks; its rows are printed without bold."
     return _with(table, rows=rows, label=source.label, note=note)
 
 

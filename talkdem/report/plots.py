@@ -256,11 +256,12 @@ def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
     zero = [r for r in planner_runs if not any(_pct(r.scores.success_rate[k]) > 0 for k in ("clean", *PATTERN_CONFIGS))]
     kept = [r for r in planner_runs if r not in zero]
     notes = []
-    if len(planner_runs) < len(runs):
-        notes.append(
-            f"{len(runs) - len(planner_runs)} run(s) without a prompting strategy (external or reference "
-            "plans) or with questions (see the clarification table) are not compared as strategies"
-        )
+    external = sum(not r.from_planner for r in runs)
+    asking = sum(r.from_planner and r.clarify != "none" for r in runs)
+    if external:
+        notes.append(f"{external} run(s) without a prompting strategy (external or reference plans) are not strategies")
+    if asking:
+        notes.append(f"{asking} run(s) with questions are compared in the clarification table, not here")
     if zero:
         notes.append("left out, every success rate 0: " + ", ".join(_one_line(r.label) for r in zero))
     models: dict[str, list[ScoredRun]] = {}

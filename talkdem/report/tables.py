@@ -274,7 +274,7 @@ def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE",
         f"Clean-conditioned retention under each strategy, by {what}",
         f"Clean-conditioned retention (%) per strategy; the best in each row is in bold. Two-sided paired t-test of "
         f"each strategy against {reference} on per-task retention: stars where {reference} is significantly higher "
-        f"({_STARS}), † where the strategy is significantly higher than {reference} (p<0.05).",
+        f"({_STARS.rstrip('.')}), † where the strategy is significantly higher than {reference} (p<0.05).",
         ("Model" if by == "model" else "Pattern", *strategies),
         tuple(rows),
     )
