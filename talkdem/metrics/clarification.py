@@ -156,6 +156,13 @@ def _retention(records: Sequence[EpisodeRecord]) -> dict[str, float]:
     return out
 
 
+def _flips(records: Sequence[EpisodeRecord], baseline: Mapping[str, bool]) -> tuple[int, int]:
+    """(gained, lost): of `records`, those that succeed where their pair in `baseline` fails, and the reverse."""
+    gained = sum(r.success and not baseline[r.episode_id] for r in records)
+    lost = sum(baseline[r.episode_id] and not r.success for r in records)
+    return gained, lost
+
+
 def clarification_scores(
     records: Sequence[EpisodeRecord], without: Sequence[EpisodeRecord] | None = None
 ) -> ClarificationScores | None:
@@ -181,12 +188,6 @@ def clarification_scores(
         if paired and asked > 0:
             change = sum(r.success - baseline[r.episode_id] for r, _ in paired) / len(paired)
             gain = change / asked
-        flips: dict[bool, tuple[int, int]] = {}
-        for with_questions in (True, False):
-            subset = [r for r, q in paired if (q > 0) == with_questions]
-            gained = sum(r.success and not baseline[r.episode_id] for r in subset)
-            lost = sum(baseline[r.episode_id] and not r.success for r in subset)
-            flips[with_questions] = (gained, lost)
         rows[group] = ClarificationRow(
             group=group,
             episodes=n,
@@ -195,8 +196,8 @@ def clarification_scores(
             help_rate=sum(q > 0 for q in questions) / n,
             gain_per_question=gain,
             retention=retention.get(group, math.nan),
-            flips_when_asked=flips[True] if without is not None else None,
-            flips_without_asking=flips[False] if without is not None else None,
+            flips_when_asked=_flips([r for r, q in paired if q > 0], baseline) if without is not None else None,
+            flips_without_asking=_flips([r for r, q in paired if q == 0], baseline) if without is not None else None,
         )
     clean = [asked_questions(r) for r in records if r.pattern == CLEAN]
     return ClarificationScores(

@@ -20,12 +20,7 @@ from talkdem.report.tables import Table
 from talkdem.runs.records import EpisodeRecord
 from talkdem.schema import PATTERNS
 
-__all__ = ["clarification_table", "clarify_mode", "paired_without"]
-
-
-def clarify_mode(run: ScoredRun) -> str:
-    """`oracle`, `in-pattern`, or `none` (also for runs from before clarification existed)."""
-    return run.clarify
+__all__ = ["clarification_table", "paired_without"]
 
 
 def _same_planning(a: ScoredRun, b: ScoredRun) -> bool:
@@ -39,7 +34,7 @@ def _same_planning(a: ScoredRun, b: ScoredRun) -> bool:
 
 def paired_without(run: ScoredRun, runs: Sequence[ScoredRun]) -> ScoredRun | None:
     """The first run of `runs` that plans like `run` but without clarification (None if there is none)."""
-    return next((r for r in runs if clarify_mode(r) == "none" and _same_planning(run, r)), None)
+    return next((r for r in runs if r.clarify == "none" and _same_planning(run, r)), None)
 
 
 def _pct(value: float) -> str:
@@ -80,7 +75,7 @@ def clarification_table(runs: Sequence[ScoredRun]) -> Table | None:
 
     rows: list[tuple[str, ...]] = []
     for run in runs:
-        if clarify_mode(run) == "none":
+        if run.clarify == "none":
             continue
         records = read_episodes(run.run_dir)
         other = paired_without(run, runs)
@@ -96,7 +91,7 @@ def clarification_table(runs: Sequence[ScoredRun]) -> Table | None:
             rows.append(
                 (
                     run.label,
-                    clarify_mode(run),
+                    run.clarify,
                     _group_label(group),
                     str(row.episodes),
                     _pct(row.success_rate),

@@ -251,8 +251,7 @@ def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
     polygon per strategy. Only planner runs with a non-zero value take part; the returned note says which
     runs were left out, and why (an empty figure says so in words)."""
     plt = _pyplot()
-    # A clarification run is not another strategy: it would draw over its strategy's polygon without questions.
-    planner_runs = [r for r in runs if r.from_planner and r.clarify == "none"]
+    planner_runs = [r for r in runs if r.compared_as_strategy]
     zero = [r for r in planner_runs if not any(_pct(r.scores.success_rate[k]) > 0 for k in ("clean", *PATTERN_CONFIGS))]
     kept = [r for r in planner_runs if r not in zero]
     notes = []

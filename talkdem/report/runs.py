@@ -63,13 +63,19 @@ class ScoredRun:
     @property
     def clarify(self) -> str:
         """`oracle`, `in-pattern`, or `none` (also for runs from before clarification existed)."""
-        return str(self.header.config.get("clarify", "none"))
+        return _clarify_of(self.header)
 
     @property
     def setting(self) -> str:
         """The strategy as a table names it: `Vanilla`, or `Vanilla + ask (oracle)` for a clarification run,
         so that a run with questions is never read as the same strategy without them."""
-        return self.strategy if self.clarify == "none" else f"{self.strategy} + ask ({self.clarify})"
+        return _setting_of(self.header)
+
+    @property
+    def compared_as_strategy(self) -> bool:
+        """Whether the run takes part in strategy comparisons: a planner run without questions (an oracle or
+        external run has no strategy; a clarification run has its own comparison, the clarification table)."""
+        return self.from_planner and self.clarify == "none"
 
     @property
     def from_planner(self) -> bool:
@@ -99,6 +105,18 @@ def score_runs(run_dirs: Sequence[Path], *, bootstrap: int = 1000, seed: int = B
     return runs
 
 
+def _clarify_of(header: RunHeader) -> str:
+    """Who answered the run's questions: `oracle`, `in-pattern`, or `none`."""
+    return str(header.config.get("clarify", "none"))
+
+
+def _setting_of(header: RunHeader) -> str:
+    """The strategy's label, with ` + ask (<mode>)` for a clarification run (beside the same run without it)."""
+    clarify = _clarify_of(header)
+    strategy = strategy_label(header.strategy)
+    return strategy if clarify == "none" else f"{strategy} + ask ({clarify})"
+
+
 def run_labels(headers: Sequence[RunHeader]) -> list[str]:
     """`model / strategy` per run, made unique with a `#n` suffix in the order given (the report, the viewer
     and the error sample name runs alike, so a labels file made in the viewer matches the report's runs)."""
@@ -106,10 +124,7 @@ def run_labels(headers: Sequence[RunHeader]) -> list[str]:
     used: dict[str, int] = {}
     for header in headers:
         # Labels are published (tables, legends, file names): a model file is named by its file name.
-        base = f"{public_model(header.model)['name'] or 'unknown model'} / {strategy_label(header.strategy)}"
-        clarify = header.config.get("clarify", "none")
-        if clarify != "none":  # a clarification run beside the same run without it
-            base += f" + ask ({clarify})"
+        base = f"{public_model(header.model)['name'] or 'unknown model'} / {_setting_of(header)}"
         used[base] = used.get(base, 0) + 1
         labels.append(base if used[base] == 1 else f"{base} #{used[base]}")
     return labels

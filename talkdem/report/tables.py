@@ -410,10 +410,9 @@ def plan_length_table(runs: Sequence[ScoredRun]) -> Table:
 def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE", *, paper: bool = True) -> list[Table]:
     """Every table, in the paper's order; with `paper`, the paper's own figures beside ours
     (`talkdem.report.paper`), marked as the paper's."""
-    # Strategies are compared among planner runs without questions only: an oracle or external column would read
-    # as a strategy, and a clarification run would be pooled with its strategy's run without questions (it has
-    # its own comparison, the clarification table).
-    planner_runs = [r for r in runs if r.from_planner and r.clarify == "none"]
+    # An oracle or external column would read as a strategy, and a clarification run would be pooled with its
+    # strategy's run without questions.
+    planner_runs = [r for r in runs if r.compared_as_strategy]
     tables = [success_table(runs), retention_table(runs), *strategy_success_tables(planner_runs)]
     for by in ("model", "pattern"):
         found = strategy_retention_table(planner_runs, reference_strategy, by=by) if planner_runs else None
