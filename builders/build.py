@@ -8,6 +8,10 @@ is byte-identical to an uninterrupted one. A truncated last line (a kill mid-wri
 The checkpoint's first line holds the build's settings (generator, prompt set, seed, `--limit`, the tasks'
 sha256): only that build resumes from it and deletes it when done; any other build given the same file is
 refused before anything in it is cut, reused or deleted.
+
+Units are independent, so `workers` processes can build them side by side (the ranking model, on one thread,
+is what takes the time); the parent alone appends to the checkpoint, and the dataset is written in task order,
+so the files are the same bytes whatever the number of workers.
 """
 
 from __future__ import annotations
@@ -529,6 +533,7 @@ def build(
     limit: int | None = None,
     candidates: int | None = None,
     rank_model: str | None = None,
+    workers: int = 1,
 ) -> BuildResult:
     """Generate, verify and write the whole dataset into `folder` (default `data/`).
 
@@ -540,7 +545,16 @@ def build(
     `throttle` sleeps that many seconds after each unit (used by the kill-and-resume test).
     `limit`, if given, builds only the first `limit` benchmark tasks and memory tasks (a smoke build of a
     slow generator); the dataset written is then partial and says so in its statistics.
+    `workers` > 1 builds units in that many processes, each with its own generator and ranking model; it
+    needs the generator by name (an LLM generator object holds a loaded model or a server connection, which
+    a process cannot share).
     """
+    if workers < 1:
+        raise ValueError(f"workers must be a positive number, got {workers}")
+    if workers > 1 and not isinstance(generator, str):
+        raise ValueError(
+            f"workers={workers} needs the generator by name (e.g. 'rules'); a generator object is built in one process"
+        )
     gen = get_generator(generator) if isinstance(generator, str) else generator
     if candidates is not None:
         if not hasattr(gen, "candidates"):
@@ -559,8 +573,79 @@ def build(
     check_output_folder(folder)
     path = checkpoint or default_checkpoint(gen.name, seed, limit)
     ranker = load_ranker(rank_model)
+    pool = _WorkerSettings(str(generator), candidates, rank_model, workers) if workers > 1 else None
     with _checkpoint_lock(path):
-        return _build_locked(gen, folder, benchmark, memory, path, seed, limit, progress, throttle, ranker)
+        return _build_locked(gen, folder, benchmark, memory, path, seed, limit, progress, throttle, ranker, pool)
+
+
+@dataclass(frozen=True)
+class _WorkerSettings:
+    """What a worker process needs to build units exactly as the parent would."""
+
+    generator: str
+    candidates: int | None
+    rank_model: str | None
+    workers: int
+
+
+_worker: tuple[Generator, Ranker | None, bool] | None = None
+"""The generator, ranker and whether to log, of this worker process (set once by `_start_worker`)."""
+
+
+def _start_worker(settings: _WorkerSettings) -> None:
+    global _worker
+    gen = get_generator(settings.generator)
+    if settings.candidates is not None:
+        gen.candidates = settings.candidates  # type: ignore[attr-defined]
+    _worker = (gen, load_ranker(settings.rank_model), getattr(gen, "usage", None) is not None)
+
+
+def _worker_unit(key: str, task: Task, seed: int) -> tuple[str, list[dict[str, Any]], dict[str, Any] | None]:
+    assert _worker is not None, "the worker was not started"
+    gen, ranker, logged = _worker
+    if logged:
+        rows, log = build_unit_logged(gen, task, seed, ranker=ranker)
+        return key, rows, log
+    return key, build_unit(gen, task, seed, ranker=ranker), None
+
+
+def _built_units(
+    todo: Sequence[tuple[str, Task]],
+    gen: Generator,
+    seed: int,
+    ranker: Ranker | None,
+    logged: bool,
+    pool: _WorkerSettings | None,
+) -> Iterator[tuple[str, list[dict[str, Any]], dict[str, Any] | None]]:
+    """(key, rows, log) of each unit, in task order in this process, else in the order the workers finish."""
+    if pool is None:
+        for key, task in todo:
+            if logged:
+                rows, log = build_unit_logged(gen, task, seed, ranker=ranker)
+                yield key, rows, log
+            else:
+                yield key, build_unit(gen, task, seed, ranker=ranker), None
+        return
+    import multiprocessing
+    from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+
+    # spawn, not fork: a forked llama.cpp model (or any threaded library) is not safe to use in the child.
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(pool.workers, context, initializer=_start_worker, initargs=(pool,)) as executor:
+        waiting = iter(todo)
+        running: set[Future[tuple[str, list[dict[str, Any]], dict[str, Any] | None]]] = set()
+        # A few units per worker in flight, not all of them: a stopped build leaves little unfinished work.
+        for key, task in waiting:
+            running.add(executor.submit(_worker_unit, key, task, seed))
+            if len(running) >= 2 * pool.workers:
+                break
+        while running:
+            done, running = wait(running, return_when=FIRST_COMPLETED)
+            for future in done:
+                yield future.result()
+                following = next(waiting, None)
+                if following is not None:
+                    running.add(executor.submit(_worker_unit, *following, seed))
 
 
 def _build_locked(
@@ -574,6 +659,7 @@ def _build_locked(
     progress: bool,
     throttle: float,
     ranker: Ranker | None = None,
+    pool: _WorkerSettings | None = None,
 ) -> BuildResult:
     from tqdm import tqdm
 
@@ -592,15 +678,12 @@ def _build_locked(
     bar = tqdm(
         total=len(todo), initial=resumed, desc="talkdem build", unit="task", disable=not progress, file=sys.stderr
     )
-    for key, task in todo:
-        if key in units:
-            continue
-        if logged:
-            rows, log = build_unit_logged(gen, task, seed, ranker=ranker)
+    remaining = [(key, task) for key, task in todo if key not in units]
+    for key, rows, log in _built_units(remaining, gen, seed, ranker, logged, pool):
+        if log is not None:
             _append(path, {"unit": key, "rows": rows, "log": log})
             logs[key] = log
         else:
-            rows = build_unit(gen, task, seed, ranker=ranker)
             _append(path, {"unit": key, "rows": rows})
         units[key] = rows
         bar.update(1)

@@ -49,6 +49,13 @@ def register(subparsers: Any) -> None:
         help="llama.cpp model ranking the verified candidates by mean log-probability per token, 1 thread "
         "(e.g. qwen2.5-coder-0.5b; default none: the first verified candidate is kept)",
     )
+    parser.add_argument(
+        "--workers",
+        type=positive_int,
+        default=1,
+        help="processes building tasks side by side, each with its own ranking model on one thread (default 1; "
+        "the files are the same bytes for any number)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="build seed (default 0): same seed, same bytes")
     parser.add_argument("--out", type=folder_path, help="dataset folder (default: data/ or $TALKDEM_DATA_DIR)")
     parser.add_argument("--tasks-dir", type=Path, help="folder holding tasks/*.jsonl (default: data/)")
@@ -68,6 +75,12 @@ def run(args: argparse.Namespace) -> int:
         return 2
     generator: Any = args.generator
     if args.generator == "llm":
+        if args.workers > 1:
+            print(
+                "talkdem build: --workers is for the rules generator; --generator llm builds in one process",
+                file=sys.stderr,
+            )
+            return 2
         generator = _llm_generator(args)
     result = build(
         out,
@@ -80,6 +93,7 @@ def run(args: argparse.Namespace) -> int:
         limit=args.limit,
         candidates=args.candidates,
         rank_model=args.rank_model,
+        workers=args.workers,
     )
     if result.resumed_units:
         print(f"resumed {result.resumed_units} finished tasks from the checkpoint", file=sys.stderr)

@@ -243,3 +243,32 @@ def test_a_different_build_never_deletes_or_reuses_a_checkpoint(
     checkpoint.write_bytes(saved)
     same = checkpoint_header(get_generator("rules"), 0, None, load_tasks("benchmark"), load_tasks("memory"))
     assert len(read_checkpoint(checkpoint, same)) == 3 and checkpoint.read_bytes() == saved
+
+
+def test_workers_write_the_same_bytes_as_one_process(tmp_path: Path) -> None:
+    from builders.build import build_unit, checkpoint_header
+    from builders.generation import get_generator
+    from talkdem.tasks import load_tasks
+
+    one = build(tmp_path / "one", checkpoint=tmp_path / "one.jsonl", progress=False, limit=6)
+    # a checkpoint holding the first task already: the workers build only the other eleven units
+    gen = get_generator("rules")
+    bench, memory = load_tasks("benchmark")[:6], load_tasks("memory")[:6]
+    first = {"unit": f"benchmark:{bench[0].task_id}", "rows": build_unit(gen, bench[0], 0)}
+    checkpoint = tmp_path / "two.jsonl"
+    checkpoint.write_text(
+        json.dumps(checkpoint_header(gen, 0, 6, bench, memory)) + "\n" + json.dumps(first, ensure_ascii=False) + "\n"
+    )
+    two = build(tmp_path / "two", checkpoint=checkpoint, progress=False, limit=6, workers=2)
+    assert two.resumed_units == 1
+    assert dataset_files(two.folder) == dataset_files(one.folder)
+    assert not checkpoint.exists()
+
+
+def test_workers_need_the_generator_by_name(tmp_path: Path) -> None:
+    from builders.generation import get_generator
+
+    with pytest.raises(ValueError, match="needs the generator by name"):
+        build(tmp_path / "out", generator=get_generator("rules"), progress=False, limit=1, workers=2)
+    with pytest.raises(ValueError, match="workers must be a positive number"):
+        build(tmp_path / "out", progress=False, limit=1, workers=0)
