@@ -7,13 +7,14 @@ so it stays true when the data is rebuilt.
 
 from __future__ import annotations
 
+import itertools
 import json
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from builders.validation.markers import MARKER_LABELS
-from builders.validation.paper import LEVEL_KEYS, RELATIVE_TOLERANCE, within
+from builders.validation.paper import LEVEL_KEYS, RELATIVE_TOLERANCE, moves_as_paper, within
 from builders.validation.variety import MIN_ADDED, TOP, TOP_SHARE_GOAL
 
 __all__ = ["DEFINITIONS", "escape_markdown", "validation_markdown", "validation_section"]
@@ -25,6 +26,7 @@ _ABBREVIATIONS = {
     "topic_drift": "TD",
     "intrusion": "IN",
 }
+_COLUMNS = ("ours", "independent")
 _MARKDOWN_SPECIALS = "\\`*_[]|#"
 
 DEFINITIONS: tuple[tuple[str, str], ...] = (
@@ -90,8 +92,8 @@ def _markers_table(markers: dict[str, Any]) -> list[str]:
     rows = [
         "| Marker | Pattern | Paper direction | "
         + " | ".join(f"{k.capitalize() if k == 'clean' else 'L' + k}: paper / ours / indep." for k in LEVEL_KEYS)
-        + " | Moves as in the paper: ours / indep. |",
-        "| --- | --- | --- | ---: | ---: | ---: | ---: | --- |",
+        + " | Step by step in the paper's direction: paper / ours / indep. | Clean to L3: ours / indep. |",
+        "| --- | --- | --- | ---: | ---: | ---: | ---: | --- | --- |",
     ]
     for entry in markers["table"]:
         digits = _digits(entry["marker"])
@@ -100,35 +102,63 @@ def _markers_table(markers: dict[str, Any]) -> list[str]:
             f"{_value(entry['independent'], k, digits)}"
             for k in LEVEL_KEYS
         ]
-        moves = " / ".join(
-            "-" if entry[c] is None else ("yes" if entry[c]["moves_as_paper"] else "NO")
-            for c in ("ours", "independent")
+        # The paper's own column is judged by the same rule as ours: where it does not move step by step
+        # either, a "NO" in our columns is the paper's shape, not a generator's failure.
+        paper_steps = moves_as_paper(entry["direction"], [entry["paper"][k] for k in LEVEL_KEYS])
+        steps = " / ".join(
+            ["yes" if paper_steps else "no"]
+            + ["-" if entry[c] is None else ("yes" if entry[c]["moves_as_paper"] else "NO") for c in _COLUMNS]
+        )
+        ends = " / ".join(
+            "-" if entry[c] is None else ("yes" if entry[c]["clean_to_l3_as_paper"] else "NO") for c in _COLUMNS
         )
         rows.append(
             f"| {MARKER_LABELS[entry['marker']]} | {_ABBREVIATIONS.get(entry['pattern'], entry['pattern'])} | "
-            f"{'up' if entry['direction'] > 0 else 'down'} | " + " | ".join(cells) + f" | {moves} |"
+            f"{'up' if entry['direction'] > 0 else 'down'} | " + " | ".join(cells) + f" | {steps} | {ends} |"
         )
     return rows
 
 
+def _label(entry: dict[str, Any]) -> str:
+    return f"{MARKER_LABELS[entry['marker']]} ({_ABBREVIATIONS.get(entry['pattern'], entry['pattern'])})"
+
+
+def _turn(entry: dict[str, Any]) -> str:
+    """The first level at which the paper's own column steps against its arrow ("" when none does)."""
+    chain = [entry["paper"][k] for k in LEVEL_KEYS]
+    for level, (before, after) in enumerate(itertools.pairwise(chain), start=1):
+        if entry["direction"] * (after - before) <= 0:
+            return f"L{level}"
+    return ""
+
+
 def _markers_verdict(markers: dict[str, Any]) -> list[str]:
+    table = markers["table"]
+    turns = [f"{_label(e)} at {_turn(e)}" for e in table if _turn(e)]
     lines = []
     for column, name in (("ours", "Ours (`builders/markers`)"), ("independent", "The independent markers")):
         summary = markers[column]
         if summary is None:
             lines.append(f"- {name}: not computed for this folder.")
             continue
+        present = [e[column] for e in table if e[column] is not None]
+        ends = sum(c["clean_to_l3_as_paper"] for c in present)
         lines.append(
             f"- {name}: **{summary['cells_within_tolerance']} of {summary['cells']} cells** within "
-            f"max({100 * RELATIVE_TOLERANCE:.0f}%, floor) of the paper's; {summary['markers_moving_as_paper']} of "
-            f"{summary['markers']} markers move step by step in the paper's direction."
+            f"max({100 * RELATIVE_TOLERANCE:.0f}%, floor) of the paper's; {ends} of {len(present)} markers move "
+            f"from clean to L3 in the paper's direction, {summary['markers_moving_as_paper']} of "
+            f"{summary['markers']} step by step."
         )
+    lines.append(
+        f"- The paper's own table moves step by step in its direction for {len(table) - len(turns)} of "
+        f"{len(table)} markers" + (f"; it turns back for {', '.join(turns)}." if turns else ".")
+    )
     away = []
     for entry in markers["table"]:
         independent = entry["independent"]
         if independent is None:
             continue
-        label = f"{MARKER_LABELS[entry['marker']]} ({_ABBREVIATIONS.get(entry['pattern'], entry['pattern'])})"
+        label = _label(entry)
         outside = [("clean" if k == "clean" else f"L{k}") for k in LEVEL_KEYS if not independent["within_tolerance"][k]]
         if outside:
             away.append(f"{label}: outside the paper's band at {', '.join(outside)}")
@@ -136,6 +166,11 @@ def _markers_verdict(markers: dict[str, Any]) -> list[str]:
             away.append(
                 f"{label}: does not move step by step in the paper's direction"
                 + ("" if independent["clean_to_l3_as_paper"] else ", not even from clean to L3")
+                + (
+                    f" (neither does the paper's own column, which turns back at {_turn(entry)})"
+                    if _turn(entry)
+                    else ""
+                )
             )
     if away:
         lines += ["", "Where the independent measures move away from the paper's numbers:", ""]

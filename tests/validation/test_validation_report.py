@@ -72,6 +72,26 @@ def test_far_values_are_flagged_and_rendered() -> None:
     assert "Ours (`builders/markers`): not computed" in text
 
 
+def test_the_card_judges_the_papers_own_column_by_the_same_rule() -> None:
+    # the paper's own numbers as the independent column: step by step where the paper is, clean to L3 everywhere
+    rows = compare_markers(_means(1.0), None)
+    summary = {"cells_within_tolerance": 44, "cells": 44, "markers_moving_as_paper": 7, "markers": 11}
+    report: dict[str, Any] = {
+        "prompt_versions": ["rules-test"],
+        "markers": {"table": rows, "independent": summary, "ours": None},
+        "variety": {"clean": {"sentence_counts": {"1": 3}}},
+    }
+    text = validation_markdown(report)
+    assert "11 of 11 markers move from clean to L3 in the paper's direction, 7 of 11 step by step" in text
+    assert "The paper's own table moves step by step in its direction for 7 of 11 markers" in text
+    assert "Pronoun share (RI) at L1" in text and "Repair / self-correction rate (per 100 words) (OS) at L2" in text
+    assert "Pronoun share (ES): does not move step by step in the paper's direction (neither does the paper's" in text
+    mtld = next(line for line in text.splitlines() if line.startswith("| Lexical diversity (MTLD) | OS |"))
+    assert mtld.endswith("| yes / - / yes | - / yes |")
+    repair = next(line for line in text.splitlines() if line.startswith("| Repair / self-correction rate"))
+    assert repair.endswith("| no / - / NO | - / yes |")  # capitals flag a column of ours
+
+
 def test_command_refuses_a_folder_that_is_not_a_dataset(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from talkdem.cli import main
 
