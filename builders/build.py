@@ -33,7 +33,7 @@ from typing import Any
 
 from builders.generation import GenerationRequest, Generator, derive_seed, get_generator
 from builders.generation.base import generate_checked
-from builders.generation.ranking import Ranker, best_index, load_ranker
+from builders.generation.ranking import CandidateRanker, Ranker, best_index, load_ranker
 from builders.interpretation import interpretation
 from builders.verification import verify
 from talkdem.paths import data_dir, repo_root
@@ -163,7 +163,7 @@ def _generate_verified(
     generator: Generator,
     requests: list[tuple[Task, str, int, str]],
     base_seed: int,
-    ranker: Ranker | None = None,
+    ranker: CandidateRanker | None = None,
     log: list[dict[str, Any]] | None = None,
 ) -> list[tuple[str, dict[str, Any], int, dict[str, Any]]]:
     """(text, verification, seed, ranking) per request: of each request's candidates keep those that pass,
@@ -222,7 +222,7 @@ def _generate_verified(
     return [r for r in results if r is not None]
 
 
-def _scores(ranker: Ranker | None, passing: list[list[tuple[int, str]]]) -> list[list[float]]:
+def _scores(ranker: CandidateRanker | None, passing: list[list[tuple[int, str]]]) -> list[list[float]]:
     """Each request's passing candidates scored in one batched call (ranked only where there is a choice)."""
     if ranker is None:
         return [[0.0] * len(good) for good in passing]
@@ -236,7 +236,7 @@ def build_unit(
     task: Task,
     base_seed: int,
     patterns: Sequence[str] = PATTERN_CONFIGS,
-    ranker: Ranker | None = None,
+    ranker: CandidateRanker | None = None,
 ) -> list[dict[str, Any]]:
     """The 16 rows of one task: its clean control, then each pattern at levels 1-3 (`patterns` narrows
     the patterns, for a quick check of a slow generator)."""
@@ -248,7 +248,7 @@ def build_unit_logged(
     task: Task,
     base_seed: int,
     patterns: Sequence[str] = PATTERN_CONFIGS,
-    ranker: Ranker | None = None,
+    ranker: CandidateRanker | None = None,
 ) -> tuple[list[dict[str, Any]], dict[str, Any]]:
     """`build_unit`'s rows and the unit's generation log: every attempt's outcome and, for a generator that
     reports its usage (the LLM generator), the unit's seconds, generations and tokens."""
@@ -613,7 +613,7 @@ def _built_units(
     todo: Sequence[tuple[str, Task]],
     gen: Generator,
     seed: int,
-    ranker: Ranker | None,
+    ranker: CandidateRanker | None,
     logged: bool,
     pool: _WorkerSettings | None,
 ) -> Iterator[tuple[str, list[dict[str, Any]], dict[str, Any] | None]]:
@@ -658,7 +658,7 @@ def _build_locked(
     limit: int | None,
     progress: bool,
     throttle: float,
-    ranker: Ranker | None = None,
+    ranker: CandidateRanker | None = None,
     pool: _WorkerSettings | None = None,
 ) -> BuildResult:
     from tqdm import tqdm

@@ -307,13 +307,20 @@ def _candidates_text(info: dict[str, Any], requests: int) -> str:
     model = info.get("rank_model")
     if count <= 1:
         return "Each request draws one utterance; a failing one is regenerated (below)."
+    hours = requests * count * _RANK_SECONDS_PER_CANDIDATE / 3600
     if model:
+        name = str(model).split(":", 1)[-1].split("@", 1)[0]
         return (
             f"Each request draws {count} candidates (each with its own seed); the ones that pass verification are "
             f"ranked by `{model}`'s mean log-probability per token and the best is kept, its score in "
-            "`ranking.score`."
+            f"`ranking.score`. Ranking the {requests * count:,} candidates takes about {hours:.1f} hours on one "
+            f"CPU thread (`talkdem build --rank-model {name} --workers N` spreads the tasks over N processes). "
+            "The test suite does not rank again: it replays the recorded choices through the current generator "
+            "and verifier (`builders/replay.py`), which writes these files only if every kept utterance is still "
+            "a verified candidate of its request at the attempt it records, and it ranks one task with the model "
+            "to check that the model makes the same choices (up to near ties, under 0.001 nats per token, where "
+            "llama.cpp's last digits may differ between machines)."
         )
-    hours = requests * count * _RANK_SECONDS_PER_CANDIDATE / 3600
     return (
         f"Each request draws {count} candidates (each with its own seed) and keeps the first that passes "
         "verification. **This build is not ranked:** ranking the verified candidates by a language model's mean "

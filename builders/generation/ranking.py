@@ -11,13 +11,23 @@ would make the fluency figures measure the ranking, so it is refused here.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 from talkdem.llm.interface.requests import LoglikelihoodRequest
 
-__all__ = ["CONTEXT", "RESERVED_MODELS", "Ranker", "ScoringModel", "best_index", "load_ranker"]
+__all__ = [
+    "CONTEXT",
+    "RESERVED_MODELS",
+    "CandidateRanker",
+    "Ranker",
+    "RecordedRanker",
+    "ScoringModel",
+    "best_index",
+    "load_ranker",
+]
 
 CONTEXT = 'At home, an older person said to their robot: "'
 """What each candidate continues; the closing quote is scored with it, so an utterance must also end well."""
@@ -39,6 +49,15 @@ class ScoringModel(Protocol):
     def loglikelihood(self, requests: Sequence[LoglikelihoodRequest]) -> list[float]: ...
 
     def token_count(self, text: str) -> int: ...
+
+
+class CandidateRanker(Protocol):
+    """What the build needs of a ranker: an id stored with every ranked row and a score per candidate text."""
+
+    @property
+    def model_id(self) -> str: ...
+
+    def scores(self, texts: Sequence[str]) -> list[float]: ...
 
 
 def best_index(scores: Sequence[float]) -> int:
@@ -79,3 +98,35 @@ def load_ranker(name: str | None, backend: str = "llamacpp", threads: int = 1) -
 
     options = {"threads": threads} if backend == "llamacpp" else {}
     return Ranker(load_model(backend, name, **options))
+
+
+@dataclass(frozen=True)
+class RecordedRanker:
+    """The choices a ranked build recorded in its rows, replayed without the model (`builders.replay`).
+
+    Each kept text scores what its row recorded; every other candidate scores -inf, so the replay keeps the
+    recorded text wherever it is still a verified candidate of its request, and a different row (which the
+    replay's comparison then reports) wherever it is not."""
+
+    model_id: str
+    recorded: Mapping[str, float]
+
+    @classmethod
+    def from_rows(cls, rows: Iterable[Mapping[str, Any]]) -> RecordedRanker | None:
+        """The ranker of one unit's rows (None when no row of it was ranked)."""
+        models: set[str] = set()
+        recorded: dict[str, float] = {}
+        for row in rows:
+            ranking = row.get("ranking") or {}
+            if ranking.get("model") is None:
+                continue
+            models.add(ranking["model"])
+            recorded[row["instruction"]] = ranking["score"]
+        if not models:
+            return None
+        if len(models) > 1:
+            raise ValueError(f"rows ranked by more than one model: {', '.join(sorted(models))}")
+        return cls(models.pop(), recorded)
+
+    def scores(self, texts: Sequence[str]) -> list[float]:
+        return [self.recorded.get(text, -math.inf) for text in texts]

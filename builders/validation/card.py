@@ -201,7 +201,7 @@ def _markers_verdict(markers: dict[str, Any]) -> list[str]:
     return lines
 
 
-def _fluency_table(fluency: dict[str, Any], order: Sequence[str]) -> list[str]:
+def _fluency_table(fluency: dict[str, Any], order: Sequence[str], ranked_by: Sequence[str] = ()) -> list[str]:
     model = fluency["model"]
     cells = fluency["cells"]
     clean = cells["clean"]["perplexity"]
@@ -229,7 +229,12 @@ def _fluency_table(fluency: dict[str, Any], order: Sequence[str]) -> list[str]:
             f"(`docs/validation/rules-v2.json`); this build has the lower perplexity in {len(better)} of {len(keys)} "
             f"cells" + (f", not in {', '.join(worse)}" if worse else "") + ". Where `rules-v2` scored lower it "
             "repeated a few stock sentences per cell (its Topic Drift and Intrusion banks), which a language model "
-            "predicts well; this build is not ranked for fluency (see Generation)."
+            "predicts well; "
+            + (
+                f"this build keeps the candidate `{', '.join(ranked_by)}` finds most probable (see Generation)."
+                if ranked_by
+                else "this build is not ranked for fluency (see Generation)."
+            )
         )
     rows += ["", "| Pattern | L1 | L2 | L3 |", "| --- | ---: | ---: | ---: |"]
     for pattern in order:
@@ -327,7 +332,7 @@ def validation_markdown(report: dict[str, Any]) -> str:
         "",
     ]
     if "fluency" in report:
-        lines += [*_fluency_table(report["fluency"], order), ""]
+        lines += [*_fluency_table(report["fluency"], order, report.get("ranked_by", [])), ""]
     lines += _variety_table(report["variety"], order)
     return "\n".join(lines)
 

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-__all__ = ["CLEAN", "COLUMNS", "Cell", "cell_key", "read_cells"]
+__all__ = ["CLEAN", "COLUMNS", "Cell", "cell_key", "ranking_models", "read_cells"]
 
 CLEAN = "clean"
 COLUMNS = ("task_id", "instruction", "clean_instruction", "seed_instruction", "scene_objects", "pddl_params")
@@ -55,3 +55,18 @@ def read_cells(folder: Path) -> list[Cell]:
             rows = _read(folder / pattern / f"{split_name(level)}.parquet")
             cells.append(Cell(pattern, level, info.abbreviation, tuple(rows)))
     return cells
+
+
+def ranking_models(folder: Path) -> list[str]:
+    """The models that ranked the rows of a dataset folder (none for an unranked build, or for one written
+    before rows had a `ranking` field)."""
+    import pyarrow.parquet as pq
+
+    models: set[str] = set()
+    for path in sorted(folder.glob("*/*.parquet")):
+        if "ranking" not in pq.read_schema(path).names:
+            continue
+        for ranking in pq.read_table(path, columns=["ranking"]).column("ranking").to_pylist():
+            if ranking and ranking.get("model"):
+                models.add(ranking["model"])
+    return sorted(models)

@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from builders.validation.dataset import CLEAN, Cell, read_cells
+from builders.validation.dataset import CLEAN, Cell, ranking_models, read_cells
 from builders.validation.paper import DIRECTIONS, LEVEL_KEYS, PAPER, moves_as_paper, within
 
 __all__ = ["VALIDATION_VERSION", "compare_markers", "independent_markers", "run_validation"]
@@ -169,6 +169,7 @@ def run_validation(
     report: dict[str, Any] = {
         "validation_version": VALIDATION_VERSION,
         "prompt_versions": versions,
+        "ranked_by": ranking_models(folder),
         "pipeline": {
             "name": PIPELINE_NAME,
             "official_files_checked": check.official_files,

@@ -27,21 +27,6 @@ def test_counts_and_statistics(reference_build: BuildResult) -> None:
     assert bench["verified"] + bench["kept_with_failed_checks"] == 4500
 
 
-def test_shipped_data_is_what_the_build_writes(reference_build: BuildResult) -> None:
-    from builders.card import render_card
-
-    built = dataset_files(reference_build.folder)
-    shipped = dataset_files(DATA)
-    assert sorted(built) == sorted(shipped)
-    # the card also shows the markers table of `talkdem markers` (data/markers.json) when present
-    card = render_card(json.loads(shipped.pop("build_stats.json")), DATA)
-    assert shipped.pop("README.md").decode() == card
-    built.pop("README.md")
-    built.pop("build_stats.json")
-    stale = [name for name in built if built[name] != shipped[name]]
-    assert not stale, f"data/ is out of date with the builder (run `talkdem build`): {stale}"
-
-
 def test_card_copy_matches_the_loader_card() -> None:
     card = (repo_root() / "dataset_card.md").read_text()
     loader_card = (DATA / "README.md").read_text()
