@@ -22,7 +22,7 @@ from builders.build import build_unit, check_output_folder, write_dataset
 from builders.generation import get_generator
 from builders.generation.ranking import RecordedRanker
 from talkdem.paths import data_dir
-from talkdem.schema import MEMORY_BANK, PATTERN_CONFIGS, TASKS, data_files
+from talkdem.schema import CLEAN, MEMORY_BANK, PATTERN_CONFIGS, TASKS, data_files, features
 from talkdem.tasks import Task, TaskSet, load_tasks
 
 __all__ = ["recorded_rows", "replay"]
@@ -30,18 +30,24 @@ __all__ = ["recorded_rows", "replay"]
 
 def recorded_rows(folder: Path) -> dict[str, list[dict[str, Any]]]:
     """The rows of a dataset folder by unit key (`benchmark:<task>` or `memory:<task>`), as the build wrote them."""
+    import datasets
     import pyarrow.parquet as pq
-
-    from talkdem.schema import CLEAN
 
     units: dict[str, list[dict[str, Any]]] = defaultdict(list)
     for config, unit in [(CLEAN, "benchmark"), *((p, "benchmark") for p in PATTERN_CONFIGS), (MEMORY_BANK, "memory")]:
+        # Parquet stores a class label as its index: back to the name the build wrote.
+        labels = {
+            name: feature
+            for name, feature in features("memory_bank" if config == MEMORY_BANK else "instruction").items()
+            if isinstance(feature, datasets.ClassLabel)
+        }
         for files in data_files(config).values():
             for relative in files:
                 path = folder / relative
                 if not path.is_file():
                     raise ValueError(f"{path}: missing; {folder} is not a complete TALK-Dem dataset folder")
                 for row in pq.read_table(path).to_pylist():
+                    row.update({name: feature.int2str(row[name]) for name, feature in labels.items()})
                     units[f"{unit}:{row['task_id']}"].append(row)
     return dict(units)
 

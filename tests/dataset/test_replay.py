@@ -48,6 +48,15 @@ def test_a_ranked_build_replays_to_the_same_bytes(ranked: BuildResult, tmp_path:
     stats = replay(ranked.folder, tmp_path / "replayed")
     assert stats["build"]["rank_model"].startswith(f"llamacpp:{RANK_MODEL}@")
     assert dataset_files(tmp_path / "replayed") == dataset_files(ranked.folder)
+    # the rows read back are the build's own (class labels by name, nulls kept), ready to build from
+    from builders.build import build_unit
+    from builders.generation import get_generator
+    from talkdem.tasks import load_tasks
+
+    task = load_tasks("benchmark")[0]
+    rows = recorded_rows(ranked.folder)[f"benchmark:{task.task_id}"]
+    assert [r["pattern"] for r in rows[:2]] == ["clean", "referential_imprecision"]
+    assert build_unit(get_generator("rules"), task, 0, ranker=RecordedRanker.from_rows(rows)) == rows
 
 
 def test_a_row_the_generator_does_not_draw_does_not_replay(ranked: BuildResult, tmp_path: Path) -> None:
