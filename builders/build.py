@@ -33,7 +33,7 @@ from typing import Any
 
 from builders.generation import GenerationRequest, Generator, derive_seed, get_generator
 from builders.generation.base import generate_checked
-from builders.generation.ranking import CandidateRanker, Ranker, best_index, load_ranker
+from builders.generation.ranking import CandidateRanker, Ranker, choose, load_ranker
 from builders.interpretation import interpretation
 from builders.verification import verify
 from talkdem.paths import data_dir, repo_root
@@ -193,7 +193,7 @@ def _generate_verified(
             pending, batch, drawn, checks, passing, scores, strict=True
         ):
             if good:
-                best = best_index(score) if ranker is not None else 0
+                best = choose(score, ranker.margin) if ranker is not None else 0
                 seed, text = good[best]
                 check = next(f for c, f in zip(candidates, found, strict=True) if c.seed == seed and c.text == text)
             else:
@@ -209,11 +209,14 @@ def _generate_verified(
                         "failed_checks": list(check["failed_checks"]),
                     }
                 )
+            ranked = ranker is not None and bool(good)
             ranking = {
-                "score": round(score[best], 6) if good and ranker is not None else None,
-                "model": ranker.model_id if ranker is not None and good else None,
+                "score": score[best] if ranked else None,
+                "model": ranker.model_id if ranker is not None and ranked else None,
                 "candidates": len(candidates),
                 "passed": len(good),
+                # every passing candidate's score: the choice can be checked, or made by another rule, later
+                "scored": [{"seed": s, "score": x} for (s, _), x in zip(good, score, strict=True)] if ranked else [],
             }
             results[i] = (text, {**check, "attempts": attempt}, seed, ranking)
         pending = still
@@ -226,8 +229,8 @@ def _scores(ranker: CandidateRanker | None, passing: list[list[tuple[int, str]]]
     """Each request's passing candidates scored in one batched call (ranked only where there is a choice)."""
     if ranker is None:
         return [[0.0] * len(good) for good in passing]
-    texts = [t for good in passing for _, t in good]
-    flat = iter(ranker.scores(texts)) if texts else iter(())
+    candidates = [c for good in passing for c in good]
+    flat = iter(ranker.score_candidates(candidates)) if candidates else iter(())
     return [[next(flat) for _ in good] for good in passing]
 
 
@@ -309,6 +312,7 @@ def checkpoint_header(
     benchmark: Sequence[Task],
     memory: Sequence[Task],
     rank_model: str | None = None,
+    rank_margin: float | None = None,
 ) -> dict[str, Any]:
     """The settings of one build, the checkpoint's first line: a checkpoint is resumed only by the build
     that wrote it. A `--limit` smoke build, another seed, generator, prompt set or task file is another
@@ -319,6 +323,7 @@ def checkpoint_header(
         "prompt_version": generator.prompt_version,
         "candidates": getattr(generator, "candidates", 1),
         "rank_model": rank_model,
+        "rank_margin": rank_margin,
         "seed": seed,
         "limit": limit,
         "smoke": limit is not None,
@@ -533,13 +538,15 @@ def build(
     limit: int | None = None,
     candidates: int | None = None,
     rank_model: str | None = None,
+    rank_margin: float = 0.0,
     workers: int = 1,
 ) -> BuildResult:
     """Generate, verify and write the whole dataset into `folder` (default `data/`).
 
     `candidates` sets how many candidates a generator that draws them (`rules`) draws per request (default
     its own, 4); `rank_model` names the llama.cpp model that ranks the verified ones (None: the first that
-    passes is kept, no model is loaded).
+    passes is kept, no model is loaded), and `rank_margin` how far below the best score (nats per token) the
+    kept one may be (`builders.generation.ranking.choose`; 0 keeps the best).
 
     `tasks_folder` is where `tasks/benchmark.jsonl` and `tasks/memory.jsonl` are read (default `data/`).
     `throttle` sleeps that many seconds after each unit (used by the kill-and-resume test).
@@ -572,8 +579,8 @@ def build(
     folder = Path(folder) if folder else data_dir()
     check_output_folder(folder)
     path = checkpoint or default_checkpoint(gen.name, seed, limit)
-    ranker = load_ranker(rank_model)
-    pool = _WorkerSettings(str(generator), candidates, rank_model, workers) if workers > 1 else None
+    ranker = load_ranker(rank_model, margin=rank_margin)
+    pool = _WorkerSettings(str(generator), candidates, rank_model, rank_margin, workers) if workers > 1 else None
     with _checkpoint_lock(path):
         return _build_locked(gen, folder, benchmark, memory, path, seed, limit, progress, throttle, ranker, pool)
 
@@ -585,6 +592,7 @@ class _WorkerSettings:
     generator: str
     candidates: int | None
     rank_model: str | None
+    rank_margin: float
     workers: int
 
 
@@ -597,10 +605,15 @@ def _start_worker(settings: _WorkerSettings) -> None:
     gen = get_generator(settings.generator)
     if settings.candidates is not None:
         gen.candidates = settings.candidates  # type: ignore[attr-defined]
-    _worker = (gen, load_ranker(settings.rank_model), getattr(gen, "usage", None) is not None)
+    _worker = (
+        gen,
+        load_ranker(settings.rank_model, margin=settings.rank_margin),
+        getattr(gen, "usage", None) is not None,
+    )
 
 
-def _worker_unit(key: str, task: Task, seed: int) -> tuple[str, list[dict[str, Any]], dict[str, Any] | None]:
+def _worker_unit(job: tuple[str, Task, int]) -> tuple[str, list[dict[str, Any]], dict[str, Any] | None]:
+    key, task, seed = job
     assert _worker is not None, "the worker was not started"
     gen, ranker, logged = _worker
     if logged:
@@ -627,25 +640,13 @@ def _built_units(
                 yield key, build_unit(gen, task, seed, ranker=ranker), None
         return
     import multiprocessing
-    from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 
     # spawn, not fork: a forked llama.cpp model (or any threaded library) is not safe to use in the child.
     context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(pool.workers, context, initializer=_start_worker, initargs=(pool,)) as executor:
-        waiting = iter(todo)
-        running: set[Future[tuple[str, list[dict[str, Any]], dict[str, Any] | None]]] = set()
-        # A few units per worker in flight, not all of them: a stopped build leaves little unfinished work.
-        for key, task in waiting:
-            running.add(executor.submit(_worker_unit, key, task, seed))
-            if len(running) >= 2 * pool.workers:
-                break
-        while running:
-            done, running = wait(running, return_when=FIRST_COMPLETED)
-            for future in done:
-                yield future.result()
-                following = next(waiting, None)
-                if following is not None:
-                    running.add(executor.submit(_worker_unit, *following, seed))
+    # Leaving the block (all done, or stopped by Ctrl-C or SIGTERM) terminates the workers at once: a unit they
+    # had not finished was never written, and the next run builds it again.
+    with context.Pool(pool.workers, _start_worker, (pool,)) as workers:
+        yield from workers.imap_unordered(_worker_unit, [(key, task, seed) for key, task in todo])
 
 
 def _build_locked(
@@ -665,7 +666,7 @@ def _build_locked(
 
     todo = [(f"benchmark:{t.task_id}", t) for t in benchmark] + [(f"memory:{t.task_id}", t) for t in memory]
     rank_id = ranker.model_id if ranker is not None else None
-    header = checkpoint_header(gen, seed, limit, benchmark, memory, rank_id)
+    header = checkpoint_header(gen, seed, limit, benchmark, memory, rank_id, ranker.margin if ranker else None)
     # Only a generator that reports its usage (the LLM generator) gets the attempt log and costs in its
     # statistics: the rules build's files stay byte-identical whatever the machine's speed.
     logged = getattr(gen, "usage", None) is not None
@@ -697,6 +698,7 @@ def _build_locked(
         "seed": seed,
         "candidates": getattr(gen, "candidates", 1),
         "rank_model": rank_id,
+        "rank_margin": ranker.margin if ranker is not None else None,
     }
     generation = None
     if logged:

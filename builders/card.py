@@ -310,11 +310,20 @@ def _candidates_text(info: dict[str, Any], requests: int) -> str:
     hours = requests * count * _RANK_SECONDS_PER_CANDIDATE / 3600
     if model:
         name = str(model).split(":", 1)[-1].split("@", 1)[0]
+        margin = float(info.get("rank_margin") or 0.0)
+        kept = (
+            f"the first of them, in draw order, that scores within {margin:g} nats per token of the best is kept "
+            "(a margin keeps the generator's variety and drops only the disfluent tail)"
+            if margin
+            else "the best is kept"
+        )
+        option = f" --rank-margin {margin:g}" if margin else ""
         return (
             f"Each request draws {count} candidates (each with its own seed); the ones that pass verification are "
-            f"ranked by `{model}`'s mean log-probability per token and the best is kept, its score in "
-            f"`ranking.score`. Ranking the {requests * count:,} candidates takes about {hours:.1f} hours on one "
-            f"CPU thread (`talkdem build --rank-model {name} --workers N` spreads the tasks over N processes). "
+            f"scored by `{model}`'s mean log-probability per token and {kept}; its score is in `ranking.score`, "
+            f"every passing candidate's in `ranking.scored`. Scoring the {requests * count:,} candidates takes "
+            f"about {hours:.1f} hours on one CPU thread (`talkdem build --rank-model {name}{option} --workers N` "
+            "spreads the tasks over N processes). "
             "The test suite does not rank again: it replays the recorded choices through the current generator "
             "and verifier (`builders/replay.py`), which writes these files only if every kept utterance is still "
             "a verified candidate of its request at the attempt it records, and it ranks one task with the model "
@@ -403,7 +412,8 @@ type does not use is null), `floor_plan`, `scene_objects` (object types present 
 `verification` (`passed`, `failed_checks`, `attempts`), `generator`, `prompt_version`, `seed` (the
 per-request seed, `derive_seed(build_seed, task_id, pattern, level, attempt)`, or the kept candidate's own seed
 derived from it), `ranking` (`score`: the ranking model's mean log-probability per token, null when the build
-is not ranked; `model`; `candidates` drawn; `passed` verification).
+is not ranked; `model`; `candidates` drawn; `passed` verification; `scored`: each passing candidate's `seed` and
+`score`, empty when the build is not ranked).
 
 `memory_bank` rows have the same fields plus `interpretation` (one sentence from the gold task specification)
 and `reference_plan` (the skill sequence that solves the task). `tasks` rows: `task_id`, `task_set`,

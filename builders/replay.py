@@ -52,9 +52,13 @@ def recorded_rows(folder: Path) -> dict[str, list[dict[str, Any]]]:
     return dict(units)
 
 
-def replay(source: Path, out: Path, tasks_folder: Path | None = None) -> dict[str, Any]:
+def replay(source: Path, out: Path, tasks_folder: Path | None = None, margin: float | None = None) -> dict[str, Any]:
     """Rebuild `source` into `out` (the build's statistics are returned); `tasks_folder` holds
-    `tasks/*.jsonl`, what the build generated from (default: `data/`, as for the build)."""
+    `tasks/*.jsonl`, what the build generated from (default: `data/`, as for the build).
+
+    `margin`, for a ranked build, chooses again from the recorded scores with another ranking margin
+    (`builders.generation.ranking.choose`) instead of the build's own: what `--rank-margin` would have built,
+    without the model."""
     stats_path = source / "build_stats.json"
     try:
         info = json.loads(stats_path.read_text())["build"]
@@ -70,6 +74,11 @@ def replay(source: Path, out: Path, tasks_folder: Path | None = None) -> dict[st
         )
     if hasattr(gen, "candidates"):
         gen.candidates = info["candidates"]
+    if margin is not None:
+        if not info.get("rank_model"):
+            raise ValueError(f"{stats_path}: an unranked build has no scores to choose from with a margin")
+        info = {**info, "rank_margin": margin}
+    chosen_within = info.get("rank_margin") or 0.0
     benchmark, memory = (_built_from(source, name, tasks_folder or data_dir()) for name in ("benchmark", "memory"))
     recorded = recorded_rows(source)
     check_output_folder(out)
@@ -79,7 +88,7 @@ def replay(source: Path, out: Path, tasks_folder: Path | None = None) -> dict[st
             key = f"{unit}:{task.task_id}"
             if key not in recorded:
                 raise ValueError(f"{source}: no rows for {unit} task {task.task_id}")
-            ranker = RecordedRanker.from_rows(recorded[key])
+            ranker = RecordedRanker.from_rows(recorded[key], chosen_within)
             units[key] = build_unit(gen, task, info["seed"], ranker=ranker)
     return write_dataset(out, benchmark, memory, units, info)[1]
 

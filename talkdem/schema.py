@@ -302,6 +302,7 @@ def features(kind: FeatureKind) -> datasets.Features:
             "model": string,
             "candidates": datasets.Value("int32"),
             "passed": datasets.Value("int32"),
+            "scored": datasets.List({"seed": datasets.Value("int64"), "score": datasets.Value("float64")}),
         },
     }
     if kind == "instruction":

@@ -112,7 +112,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     except KeyboardInterrupt as stop:
         how = "terminated" if isinstance(stop, Terminated) else "interrupted"
-        print(f"talkdem {args.command}: {how} (finished episodes are saved; run again to resume)", file=sys.stderr)
+        saved = "tasks are saved in the checkpoint" if args.command == "build" else "episodes are saved"
+        print(f"talkdem {args.command}: {how} (finished {saved}; run again to resume)", file=sys.stderr)
         return TERMINATED_EXIT if isinstance(stop, Terminated) else 130
     except Exception as exc:
         # Every failure is one line and a non-zero exit; TALKDEM_DEBUG=1 shows the traceback of a bug.

@@ -50,6 +50,13 @@ def register(subparsers: Any) -> None:
         "(e.g. qwen2.5-coder-0.5b; default none: the first verified candidate is kept)",
     )
     parser.add_argument(
+        "--rank-margin",
+        type=float,
+        default=0.0,
+        help="keep the first verified candidate (in draw order) scoring within this many nats per token of the "
+        "best (default 0: the best); a margin keeps the generator's variety and drops only the disfluent tail",
+    )
+    parser.add_argument(
         "--workers",
         type=positive_int,
         default=1,
@@ -93,6 +100,7 @@ def run(args: argparse.Namespace) -> int:
         limit=args.limit,
         candidates=args.candidates,
         rank_model=args.rank_model,
+        rank_margin=args.rank_margin,
         workers=args.workers,
     )
     if result.resumed_units:

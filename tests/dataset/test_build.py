@@ -257,3 +257,30 @@ def test_workers_need_the_generator_by_name(tmp_path: Path) -> None:
         build(tmp_path / "out", generator=get_generator("rules"), progress=False, limit=1, workers=2)
     with pytest.raises(ValueError, match="workers must be a positive number"):
         build(tmp_path / "out", progress=False, limit=1, workers=0)
+
+
+def test_a_build_with_workers_stops_on_sigterm_and_resumes(reference_build: BuildResult, tmp_path: Path) -> None:
+    out, checkpoint = tmp_path / "data", tmp_path / "checkpoint.jsonl"
+    command = [
+        sys.executable, "-m", "talkdem", "build", "--out", str(out), "--checkpoint", str(checkpoint),
+        "--no-progress", "--workers", "2", "--throttle", "0.05",
+    ]  # fmt: skip
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=repo_root())
+    deadline = time.monotonic() + 180
+    while time.monotonic() < deadline:
+        if checkpoint.is_file() and checkpoint.read_bytes().count(b"\n") >= 40:
+            break
+        time.sleep(0.05)
+    process.send_signal(signal.SIGTERM)
+    _, stderr = process.communicate(timeout=120)  # the workers are terminated, not waited for
+    assert process.returncode != 0 and b"Traceback" not in stderr, stderr.decode()
+    assert stderr.decode().strip().splitlines()[-1] == (
+        "talkdem build: terminated (finished tasks are saved in the checkpoint; run again to resume)"
+    )
+    finished = checkpoint.read_bytes().count(b"\n") - 1
+    assert 0 < finished < 400
+    assert not (out / "README.md").exists()
+
+    resumed = build(out, checkpoint=checkpoint, progress=False, workers=2)
+    assert resumed.resumed_units >= finished
+    assert dataset_files(out) == dataset_files(reference_build.folder)

@@ -18,7 +18,7 @@ from builders.generation import phrases_v3 as V
 from builders.generation.forms import FORMS, definitions_table
 from builders.generation.object_kinds import KINDS, OBJECT_KINDS, kinds_of, noun
 from builders.generation.personas import persona_for
-from builders.generation.ranking import Ranker, best_index, load_ranker
+from builders.generation.ranking import Ranker, choose, load_ranker
 from builders.generation.rules_v3 import RulesV3Generator, unnamed_target_tasks
 from builders.lexicon import STATE_WORDS, TASK_VERBS, find_mentions, word_spans
 from builders.markers.measures import sentences
@@ -233,15 +233,21 @@ class _ShortestIsBest:
         return len(text.split())
 
 
-def test_best_index_prefers_the_highest_then_the_earliest() -> None:
-    assert best_index([-2.0, -1.0, -1.0]) == 1
+def test_choose_keeps_the_first_candidate_within_the_margin_of_the_best() -> None:
+    assert choose([-2.0, -1.0, -1.0]) == 1  # the best, ties to the earlier
+    assert choose([-2.0, -1.0, -1.0], margin=0.5) == 1
+    assert choose([-1.2, -1.0, -3.0], margin=0.5) == 0  # close enough: the generator's own first draw stands
+    assert choose([-1.2, -1.0], margin=0.2) == 0 and choose([-1.2, -1.0], margin=0.19) == 1
     with pytest.raises(ValueError):
-        best_index([])
+        choose([])
+    with pytest.raises(ValueError, match="margin"):
+        choose([-1.0], margin=-0.1)
 
 
-def test_the_build_keeps_the_best_scoring_verified_candidate(tasks: tuple[Task, ...]) -> None:
+@pytest.mark.parametrize("margin", [0.0, 0.3])
+def test_the_build_keeps_the_candidate_the_rule_chooses(tasks: tuple[Task, ...], margin: float) -> None:
     gen = RulesV3Generator(candidates=4)
-    ranker = Ranker(_ShortestIsBest())
+    ranker = Ranker(_ShortestIsBest(), margin)
     task = tasks[7]
     clean = gen.generate_one(GenerationRequest(task, "clean", 0, "", 1))
     requests = [(task, "topic_drift", 3, clean), (task, "intrusion", 2, clean)]
@@ -250,9 +256,10 @@ def test_the_build_keeps_the_best_scoring_verified_candidate(tasks: tuple[Task, 
     for (t, pattern, level, c), (text, _, seed, ranking) in zip(requests, kept, strict=True):
         request = GenerationRequest(t, pattern, level, c, derive_seed(0, t.task_id, pattern, level, 1))
         drawn = gen.generate_candidates([request])[0]
-        passing = [x for _, x in drawn if verify(t, pattern, level, x)["passed"]]
-        scores = ranker.scores(passing)
-        assert text == passing[best_index(scores)] and ranking["score"] == round(max(scores), 6)
+        passing = [(s, x) for s, x in drawn if verify(t, pattern, level, x)["passed"]]
+        scores = ranker.score_candidates(passing)
+        assert (seed, text) == passing[choose(scores, margin)] and ranking["score"] == scores[choose(scores, margin)]
+        assert ranking["scored"] == [{"seed": s, "score": x} for (s, _), x in zip(passing, scores, strict=True)]
         assert ranking == {**ranking, "model": "fake:shortest@0", "candidates": 4, "passed": len(passing)}
         assert gen.generate_one(GenerationRequest(t, pattern, level, c, seed)) == text
 

@@ -1,5 +1,6 @@
 """Replaying a dataset's ranking choices: the shipped data is what the builder writes, without hours of ranking;
-a row the generator no longer draws shows up; the ranking model still makes the shipped choices."""
+a row the generator no longer draws shows up; the ranking model still gives the shipped scores; another margin
+chooses again from the recorded scores."""
 
 from __future__ import annotations
 
@@ -13,15 +14,14 @@ import pyarrow.parquet as pq
 import pytest
 
 from builders.build import BuildResult, build, dataset_files
-from builders.generation.ranking import RecordedRanker, load_ranker
+from builders.generation.ranking import RecordedRanker
 from builders.replay import recorded_rows, replay
 from talkdem.paths import repo_root
 
 DATA = repo_root() / "data"
 RANK_MODEL = "qwen2.5-coder-0.5b"
 NEAR_TIE = 1e-3
-"""Nats per token: llama.cpp's scores move in the last digits with CPU kernels and threads; a choice between two
-candidates closer than this may go either way on another machine."""
+"""Nats per token: llama.cpp's scores move in the last digits with CPU kernels and threads."""
 
 
 @pytest.fixture(scope="module")
@@ -31,17 +31,20 @@ def ranked(tmp_path_factory: pytest.TempPathFactory) -> BuildResult:
     return build(root / "data", checkpoint=root / "c.jsonl", progress=False, limit=1, rank_model=RANK_MODEL)
 
 
-def test_recorded_ranker_scores_the_kept_text_and_nothing_else() -> None:
+def test_recorded_ranker_scores_the_recorded_candidates_and_nothing_else() -> None:
+    scored = [{"seed": 11, "score": -2.5}, {"seed": 12, "score": -2.25}]
     rows = [
-        {"instruction": "Put the mug away.", "ranking": {"model": "m@1", "score": -2.5}},
-        {"instruction": "Er, the mug.", "ranking": {"model": None, "score": None}},  # kept failing: no choice
+        {"instruction": "Put the mug away.", "seed": 11, "ranking": {"model": "m@1", "score": -2.5, "scored": scored}},
+        {"instruction": "Er, the mug.", "seed": 3, "ranking": {"model": None, "score": None, "scored": []}},
     ]
-    ranker = RecordedRanker.from_rows(rows)
-    assert ranker is not None and ranker.model_id == "m@1"
-    assert ranker.scores(["Er, the mug.", "Put the mug away."]) == [-math.inf, -2.5]
+    ranker = RecordedRanker.from_rows(rows, margin=0.5)
+    assert ranker is not None and ranker.model_id == "m@1" and ranker.margin == 0.5
+    assert ranker.score_candidates([(12, "other"), (3, "Er, the mug."), (11, "x")]) == [-2.25, -math.inf, -2.5]
     assert RecordedRanker.from_rows(rows[1:]) is None
     with pytest.raises(ValueError, match="more than one model"):
-        RecordedRanker.from_rows([*rows, {"instruction": "x", "ranking": {"model": "n@2", "score": -1.0}}])
+        RecordedRanker.from_rows([*rows, {"instruction": "x", "seed": 5, "ranking": {"model": "n@2", "score": -1.0}}])
+    with pytest.raises(ValueError, match="margin"):
+        RecordedRanker.from_rows(rows, margin=-1.0)
 
 
 def test_a_ranked_build_replays_to_the_same_bytes(ranked: BuildResult, tmp_path: Path) -> None:
@@ -73,6 +76,24 @@ def test_a_row_the_generator_does_not_draw_does_not_replay(ranked: BuildResult, 
     assert different == ["topic_drift/level_3.parquet"]
 
 
+def test_another_margin_chooses_again_from_the_recorded_scores(ranked: BuildResult, tmp_path: Path) -> None:
+    # a margin wider than any spread keeps the first verified candidate: what the unranked build keeps
+    stats = replay(ranked.folder, tmp_path / "wide", margin=1000.0)
+    assert stats["build"]["rank_margin"] == 1000.0
+    plain = build(tmp_path / "plain", checkpoint=tmp_path / "c.jsonl", progress=False, limit=1)
+    wide, first = recorded_rows(tmp_path / "wide"), recorded_rows(plain.folder)
+    assert sorted(wide) == sorted(first)
+    for key in wide:
+        assert [r["instruction"] for r in wide[key]] == [r["instruction"] for r in first[key]]
+    changed = [
+        r for key, rows in recorded_rows(ranked.folder).items() for r, w in zip(rows, wide[key], strict=True)
+        if r["seed"] != w["seed"]
+    ]  # fmt: skip
+    assert changed, "on two tasks the best-scored candidate is some request's first draw every time"
+    with pytest.raises(ValueError, match="no scores to choose from"):
+        replay(plain.folder, tmp_path / "again", margin=0.1)
+
+
 def test_shipped_data_is_what_the_build_writes(tmp_path: Path) -> None:
     from builders.card import render_card
 
@@ -89,27 +110,26 @@ def test_shipped_data_is_what_the_build_writes(tmp_path: Path) -> None:
     assert not stale, f"data/ is out of date with the builder (run `talkdem build`, see the card): {stale}"
 
 
-def test_the_ranking_model_makes_the_shipped_choices(ranked: BuildResult) -> None:
+def test_the_ranking_model_scores_the_shipped_candidates_alike(ranked: BuildResult) -> None:
+    """The replay checks the choice rule on the recorded scores; this checks the scores: the model run here
+    gives the same verified candidates of the first task the same scores, up to llama.cpp's last digits (so the
+    choice can differ only where a score sits within NEAR_TIE of the rule's threshold)."""
     task_id = json.loads((DATA / "tasks" / "benchmark.jsonl").read_text().splitlines()[0])["task_id"]
     shipped = {row["id"]: row for row in recorded_rows(DATA)[f"benchmark:{task_id}"]}
     fresh = {row["id"]: row for row in recorded_rows(ranked.folder)[f"benchmark:{task_id}"]}
     assert sorted(shipped) == sorted(fresh)
-    shipped_model = {row["ranking"]["model"] for row in shipped.values()}
-    if shipped_model == {None}:  # data/ unranked: every row keeps its first verified candidate
-        assert all(row["ranking"]["score"] is None for row in shipped.values())
+    if {row["ranking"]["model"] for row in shipped.values()} == {None}:  # data/ is not ranked
+        assert all(row["ranking"]["scored"] == [] for row in shipped.values())
         return
-    ranker = load_ranker(RANK_MODEL)
-    assert ranker is not None
-    chosen = [row for row in shipped.values() if row["ranking"]["model"] is not None]
-    assert len(chosen) >= 12 and {row["ranking"]["model"] for row in chosen} == {ranker.model_id}
-    for row in chosen:
-        again = fresh[row["id"]]
-        if again["seed"] != row["seed"]:  # only a near tie may go the other way on this machine
-            ours, theirs = ranker.scores([row["instruction"], again["instruction"]])
-            assert abs(ours - theirs) < NEAR_TIE, (row["id"], row["instruction"], again["instruction"])
-        else:
-            assert again["instruction"] == row["instruction"]
-            assert abs(again["ranking"]["score"] - row["ranking"]["score"]) < NEAR_TIE
+    checked = 0
+    for row_id, row in shipped.items():
+        ours, theirs = row["ranking"], fresh[row_id]["ranking"]
+        assert ours["model"] == theirs["model"], row_id
+        assert [e["seed"] for e in ours["scored"]] == [e["seed"] for e in theirs["scored"]], row_id
+        for a, b in zip(ours["scored"], theirs["scored"], strict=True):
+            assert abs(a["score"] - b["score"]) < NEAR_TIE, (row_id, a, b)
+            checked += 1
+    assert checked >= 16
 
 
 def test_the_validation_reads_which_model_ranked_a_folder(ranked: BuildResult) -> None:
