@@ -68,6 +68,11 @@ def register(subparsers: Any) -> None:
     parser.add_argument("--tasks-dir", type=Path, help="folder holding tasks/*.jsonl (default: data/)")
     parser.add_argument("--checkpoint", type=Path, help="JSONL checkpoint (default: .cache/build/...)")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    parser.add_argument(
+        "--new-settings",
+        action="store_true",
+        help="rebuild data/ with settings other than those it was built with (data/build_stats.json)",
+    )
     parser.add_argument("--throttle", type=float, default=0.0, help=argparse.SUPPRESS)  # resume tests
     parser.set_defaults(handler=run)
 
@@ -80,6 +85,15 @@ def run(args: argparse.Namespace) -> int:
     if args.limit is not None and Path(out).resolve() == (repo_root() / "data").resolve():
         print("talkdem build: --limit writes a partial dataset; give --out FOLDER (not data/)", file=sys.stderr)
         return 2
+    if Path(out).resolve() == (repo_root() / "data").resolve() and not args.new_settings:
+        changed = _changed_settings(args, Path(out) / "build_stats.json")
+        if changed:
+            print(
+                f"talkdem build: data/ was built with other settings ({changed}); give the same options to "
+                "rebuild it, or --new-settings to replace them, or --out FOLDER",
+                file=sys.stderr,
+            )
+            return 2
     generator: Any = args.generator
     if args.generator == "llm":
         if args.workers > 1:
@@ -120,3 +134,30 @@ def _llm_generator(args: argparse.Namespace) -> Any:
         options["structured_output"] = args.structured_output
     backend = load_model(args.backend, args.model, **options)
     return LLMGenerator(backend, version=args.prompt_version, structured=args.structured_output != "off")
+
+
+def _changed_settings(args: argparse.Namespace, stats_path: Path) -> str:
+    """The build settings that differ from those recorded in `stats_path` ("" when none does, or when
+    there is no record: a first build)."""
+    try:
+        recorded = json.loads(stats_path.read_text())["build"]
+    except (OSError, ValueError, KeyError):
+        return ""
+    rank_model = None if args.rank_model.lower() == "none" else args.rank_model
+    recorded_model = recorded.get("rank_model")
+    # the record holds the model's full id (backend:name@sha256...); the option its catalogue name
+    recorded_name = str(recorded_model).split(":", 1)[-1].split("@", 1)[0] if recorded_model else None
+    wanted = {
+        "--generator": (args.generator, recorded.get("generator")),
+        "--seed": (args.seed, recorded.get("seed")),
+        "--rank-model": (rank_model, recorded_name),
+    }
+    if rank_model and recorded_name:
+        wanted["--rank-margin"] = (args.rank_margin, recorded.get("rank_margin"))
+    if args.candidates is not None:
+        wanted["--candidates"] = (args.candidates, recorded.get("candidates"))
+    return ", ".join(
+        f"{option} {there if there is not None else 'none'} there, {now if now is not None else 'none'} now"
+        for option, (now, there) in wanted.items()
+        if now != there
+    )

@@ -67,3 +67,15 @@ def test_partial_build_refuses_the_shipped_dataset_and_writes_elsewhere(
     code = main(["build", "--limit", "1", "--out", str(out), "--checkpoint", str(out) + ".ckpt", "--no-progress"])
     stats = json.loads(capsys.readouterr().out)
     assert code == 0 and stats["counts"] == {"tasks": 1, "instructions": 16, "memory_tasks": 1, "memory_items": 16}
+
+
+def test_build_refuses_to_replace_data_with_other_settings(capsys: pytest.CaptureFixture[str]) -> None:
+    from talkdem.paths import repo_root
+
+    stats = repo_root() / "data" / "build_stats.json"
+    before = stats.stat().st_mtime_ns
+    assert main(["build", "--seed", "3", "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("talkdem build: data/ was built with other settings (--seed 0 there, 3 now")
+    assert "--new-settings" in err and "\n" not in err
+    assert stats.stat().st_mtime_ns == before
