@@ -612,14 +612,20 @@ def _start_worker(settings: _WorkerSettings) -> None:
     )
 
 
-def _worker_unit(job: tuple[str, Task, int]) -> tuple[str, list[dict[str, Any]], dict[str, Any] | None]:
-    key, task, seed = job
-    assert _worker is not None, "the worker was not started"
-    gen, ranker, logged = _worker
+_Built = tuple[str, list[dict[str, Any]], dict[str, Any] | None]
+"""A finished unit: its key, its rows and its generation log (None where the generator keeps none)."""
+
+
+def _one_unit(gen: Generator, ranker: CandidateRanker | None, logged: bool, key: str, task: Task, seed: int) -> _Built:
     if logged:
         rows, log = build_unit_logged(gen, task, seed, ranker=ranker)
         return key, rows, log
     return key, build_unit(gen, task, seed, ranker=ranker), None
+
+
+def _worker_unit(job: tuple[str, Task, int]) -> _Built:
+    assert _worker is not None, "the worker was not started"
+    return _one_unit(*_worker, *job)
 
 
 def _built_units(
@@ -629,15 +635,11 @@ def _built_units(
     ranker: CandidateRanker | None,
     logged: bool,
     pool: _WorkerSettings | None,
-) -> Iterator[tuple[str, list[dict[str, Any]], dict[str, Any] | None]]:
-    """(key, rows, log) of each unit, in task order in this process, else in the order the workers finish."""
+) -> Iterator[_Built]:
+    """Each unit built, in task order in this process, else in the order the workers finish."""
     if pool is None:
         for key, task in todo:
-            if logged:
-                rows, log = build_unit_logged(gen, task, seed, ranker=ranker)
-                yield key, rows, log
-            else:
-                yield key, build_unit(gen, task, seed, ranker=ranker), None
+            yield _one_unit(gen, ranker, logged, key, task, seed)
         return
     import multiprocessing
 
