@@ -309,7 +309,9 @@ def _candidates_text(info: dict[str, Any], requests: int) -> str:
         return "Each request draws one utterance; a failing one is regenerated (below)."
     hours = requests * count * _RANK_SECONDS_PER_CANDIDATE / 3600
     if model:
-        name = str(model).split(":", 1)[-1].split("@", 1)[0]
+        from builders.generation.ranking import model_name
+
+        name = model_name(str(model))
         margin = float(info.get("rank_margin") or 0.0)
         kept = (
             f"the first of them, in draw order, that scores within {margin:g} nats per token of the best is kept "

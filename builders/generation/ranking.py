@@ -28,6 +28,7 @@ __all__ = [
     "ScoringModel",
     "choose",
     "load_ranker",
+    "model_name",
 ]
 
 CONTEXT = 'At home, an older person said to their robot: "'
@@ -116,6 +117,11 @@ class Ranker:
     def score_candidates(self, candidates: Sequence[tuple[int, str]]) -> list[float]:
         """`scores` of the candidates' texts, rounded to SCORE_DIGITS (the seeds are not needed)."""
         return [round(score, SCORE_DIGITS) for score in self.scores([text for _, text in candidates])]
+
+
+def model_name(model_id: str) -> str:
+    """The catalogue name (`--rank-model NAME`) inside a ranking model's id (`backend:name@sha256[+layout]`)."""
+    return model_id.split(":", 1)[-1].split("@", 1)[0]
 
 
 def load_ranker(name: str | None, backend: str = "llamacpp", threads: int = 1, margin: float = 0.0) -> Ranker | None:

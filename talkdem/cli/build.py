@@ -143,10 +143,12 @@ def _changed_settings(args: argparse.Namespace, stats_path: Path) -> str:
         recorded = json.loads(stats_path.read_text())["build"]
     except (OSError, ValueError, KeyError):
         return ""
+    from builders.generation.ranking import model_name
+
     rank_model = None if args.rank_model.lower() == "none" else args.rank_model
     recorded_model = recorded.get("rank_model")
     # the record holds the model's full id (backend:name@sha256...); the option its catalogue name
-    recorded_name = str(recorded_model).split(":", 1)[-1].split("@", 1)[0] if recorded_model else None
+    recorded_name = model_name(str(recorded_model)) if recorded_model else None
     wanted = {
         "--generator": (args.generator, recorded.get("generator")),
         "--seed": (args.seed, recorded.get("seed")),

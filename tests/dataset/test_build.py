@@ -34,20 +34,26 @@ def test_card_copy_matches_the_loader_card() -> None:
     assert card == loader_card
 
 
-def test_resume_after_kill_is_byte_identical(reference_build: BuildResult, tmp_path: Path) -> None:
-    out, checkpoint = tmp_path / "data", tmp_path / "checkpoint.jsonl"
+def _build_until(out: Path, checkpoint: Path, lines: int, *options: str) -> subprocess.Popen[bytes]:
+    """`talkdem build` started in a process, returned once its checkpoint holds `lines` lines (or 180 s passed)."""
     command = [
         sys.executable, "-m", "talkdem", "build", "--out", str(out), "--checkpoint", str(checkpoint),
-        "--no-progress", "--throttle", "0.02",
+        "--no-progress", *options,
     ]  # fmt: skip
-    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=repo_root())
-    deadline = time.monotonic() + 120
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=repo_root())
+    deadline = time.monotonic() + 180
     while time.monotonic() < deadline:
-        if checkpoint.is_file() and checkpoint.read_bytes().count(b"\n") >= 60:
+        if checkpoint.is_file() and checkpoint.read_bytes().count(b"\n") >= lines:
             break
         time.sleep(0.05)
+    return process
+
+
+def test_resume_after_kill_is_byte_identical(reference_build: BuildResult, tmp_path: Path) -> None:
+    out, checkpoint = tmp_path / "data", tmp_path / "checkpoint.jsonl"
+    process = _build_until(out, checkpoint, 60, "--throttle", "0.02")
     os.kill(process.pid, signal.SIGKILL)
-    process.wait()
+    process.communicate()
     finished = checkpoint.read_bytes().count(b"\n") - 1
     assert 0 < finished < 400, "the build should have been killed mid-way"
     assert not (out / "README.md").exists()
@@ -261,16 +267,7 @@ def test_workers_need_the_generator_by_name(tmp_path: Path) -> None:
 
 def test_a_build_with_workers_stops_on_sigterm_and_resumes(reference_build: BuildResult, tmp_path: Path) -> None:
     out, checkpoint = tmp_path / "data", tmp_path / "checkpoint.jsonl"
-    command = [
-        sys.executable, "-m", "talkdem", "build", "--out", str(out), "--checkpoint", str(checkpoint),
-        "--no-progress", "--workers", "2", "--throttle", "0.05",
-    ]  # fmt: skip
-    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=repo_root())
-    deadline = time.monotonic() + 180
-    while time.monotonic() < deadline:
-        if checkpoint.is_file() and checkpoint.read_bytes().count(b"\n") >= 40:
-            break
-        time.sleep(0.05)
+    process = _build_until(out, checkpoint, 40, "--workers", "2", "--throttle", "0.05")
     process.send_signal(signal.SIGTERM)
     _, stderr = process.communicate(timeout=120)  # the workers are terminated, not waited for
     assert process.returncode != 0 and b"Traceback" not in stderr, stderr.decode()
