@@ -139,3 +139,24 @@ def test_the_validation_reads_which_model_ranked_a_folder(ranked: BuildResult) -
     assert ranking_models(ranked.folder) == [stats["build"]["rank_model"]]
     shipped = json.loads((DATA / "build_stats.json").read_text())["build"]["rank_model"]
     assert ranking_models(DATA) == ([shipped] if shipped else [])
+
+
+def test_the_replay_command_writes_the_folder_and_refuses_bad_settings(
+    ranked: BuildResult, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from talkdem.cli import main
+
+    assert main(["replay", str(ranked.folder), "--out", str(tmp_path / "again")]) == 0
+    assert dataset_files(tmp_path / "again") == dataset_files(ranked.folder)
+    assert main(["replay", str(ranked.folder), "--out", str(tmp_path / "wide"), "--rank-margin", "1000"]) == 0
+    assert json.loads((tmp_path / "wide" / "build_stats.json").read_text())["build"]["rank_margin"] == 1000.0
+    capsys.readouterr()
+    for args, problem in [
+        (["--out", str(ranked.folder)], "--out is SOURCE"),
+        (["--out", str(tmp_path / "neg"), "--rank-margin", "-0.5"], "--rank-margin must be 0 or more"),
+    ]:
+        assert main(["replay", str(ranked.folder), *args]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and problem in err, err
+    assert main(["replay", str(tmp_path / "nothing-here"), "--out", str(tmp_path / "x")]) == 2
+    assert "no build settings to replay" in capsys.readouterr().err
