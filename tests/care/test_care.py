@@ -54,7 +54,8 @@ def _imported_modules(path: Path) -> set[str]:
 
 # The commands that build the dataset are the only runtime code allowed to reach the build pipeline.
 BUILD_COMMANDS = {
-    "build.py", "select.py", "markers.py", "push.py", "verify.py", "retrieval.py", "sample_page.py", "validate.py"
+    "build.py", "replay.py", "select.py", "markers.py", "push.py", "verify.py", "retrieval.py", "sample_page.py",
+    "validate.py",
 }  # fmt: skip
 # The clarification track's simulated person speaks its answers with the dataset's own generator (issue 23: the
 # answer under the instruction's pattern and level), and the run spec records that generator's version.
