@@ -20,7 +20,7 @@ from typing import Any
 
 from builders.build import build_unit, check_output_folder, write_dataset
 from builders.generation import get_generator
-from builders.generation.ranking import RecordedRanker
+from builders.generation.ranking import RecordedRanker, checked_margin
 from talkdem.paths import data_dir
 from talkdem.schema import CLEAN, MEMORY_BANK, PATTERN_CONFIGS, TASKS, data_files, features
 from talkdem.tasks import Task, TaskSet, load_tasks
@@ -75,6 +75,7 @@ def replay(source: Path, out: Path, tasks_folder: Path | None = None, margin: fl
     if hasattr(gen, "candidates"):
         gen.candidates = info["candidates"]
     if margin is not None:
+        checked_margin(margin)  # before the folder is read: a bad margin is the caller's, not the data's
         if not info.get("rank_model"):
             raise ValueError(f"{stats_path}: an unranked build has no scores to choose from with a margin")
         info = {**info, "rank_margin": margin}

@@ -26,6 +26,7 @@ __all__ = [
     "Ranker",
     "RecordedRanker",
     "ScoringModel",
+    "checked_margin",
     "choose",
     "load_ranker",
     "model_name",
@@ -86,7 +87,8 @@ def choose(scores: Sequence[float], margin: float = 0.0) -> int:
     return next(i for i, score in enumerate(scores) if score >= best - margin)
 
 
-def _checked_margin(margin: float) -> float:
+def checked_margin(margin: float) -> float:
+    """`margin` as a float, or a ValueError naming `--rank-margin` (build, ranker and replay check alike)."""
     if not margin >= 0:  # also refuses NaN
         raise ValueError(f"--rank-margin must be a number >= 0 (nats per token), got {margin}")
     return float(margin)
@@ -101,7 +103,7 @@ class Ranker:
     """Keep the first candidate within this many nats per token of the best (`choose`)."""
 
     def __post_init__(self) -> None:
-        self.margin = _checked_margin(self.margin)
+        self.margin = checked_margin(self.margin)
 
     @property
     def model_id(self) -> str:
@@ -136,7 +138,7 @@ def load_ranker(name: str | None, backend: str = "llamacpp", threads: int = 1, m
         )
     from talkdem.llm.interface.registry import load_model
 
-    margin = _checked_margin(margin)
+    margin = checked_margin(margin)
     options = {"threads": threads} if backend == "llamacpp" else {}
     return Ranker(load_model(backend, name, **options), margin)
 
@@ -170,7 +172,7 @@ class RecordedRanker:
             return None
         if len(models) > 1:
             raise ValueError(f"rows ranked by more than one model: {', '.join(sorted(models))}")
-        return cls(models.pop(), recorded, _checked_margin(margin))
+        return cls(models.pop(), recorded, checked_margin(margin))
 
     def score_candidates(self, candidates: Sequence[tuple[int, str]]) -> list[float]:
         return [self.recorded.get(seed, -math.inf) for seed, _ in candidates]

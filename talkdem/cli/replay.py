@@ -36,8 +36,6 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     from builders.replay import replay
 
-    if args.rank_margin is not None and args.rank_margin < 0:
-        raise ValueError(f"--rank-margin must be 0 or more, got {args.rank_margin}")
     if args.out.resolve() == args.source.resolve():
         raise ValueError(f"{args.out}: --out is SOURCE; replay reads SOURCE while it writes, give another folder")
     stats = replay(args.source, args.out, tasks_folder=args.tasks_dir, margin=args.rank_margin)

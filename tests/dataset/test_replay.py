@@ -153,7 +153,8 @@ def test_the_replay_command_writes_the_folder_and_refuses_bad_settings(
     capsys.readouterr()
     for args, problem in [
         (["--out", str(ranked.folder)], "--out is SOURCE"),
-        (["--out", str(tmp_path / "neg"), "--rank-margin", "-0.5"], "--rank-margin must be 0 or more"),
+        (["--out", str(tmp_path / "neg"), "--rank-margin", "-0.5"], "--rank-margin must be a number >= 0"),
+        (["--out", str(tmp_path / "nan"), "--rank-margin", "nan"], "--rank-margin must be a number >= 0"),
     ]:
         assert main(["replay", str(ranked.folder), *args]) == 2
         err = capsys.readouterr().err.strip()
