@@ -231,7 +231,8 @@ def _fluency_table(fluency: dict[str, Any], order: Sequence[str], ranked_by: Seq
             "repeated a few stock sentences per cell (its Topic Drift and Intrusion banks), which a language model "
             "predicts well; "
             + (
-                f"this build keeps the candidate `{', '.join(ranked_by)}` finds most probable (see Generation)."
+                f"this build was ranked by `{', '.join(ranked_by)}` (see Generation for the rule), and its "
+                "sentences name each task's own people and places, which a language model finds less predictable."
                 if ranked_by
                 else "this build is not ranked for fluency (see Generation)."
             )

@@ -132,6 +132,16 @@ def no_dashes_colons(ctx: Context) -> bool:
     return not any(c in text for c in "-:–—")
 
 
+def varied_openers(ctx: Context) -> bool:
+    """No two sentences open with the same lead-in ("Oh, the name. Oh, the apple."): a speaker varies them.
+
+    The phrase banks combine freely, so a few draws repeat a lead-in; the unranked build happened to keep
+    none, but a ranking model prefers them (repetition is predictable), so the ranked build kept 5 of 4,500."""
+    from builders.markers.variety import repeated_opener  # here: builders.markers imports the cue lists
+
+    return not repeated_opener(ctx.text)
+
+
 # --- clean control ------------------------------------------------------------------------------------------
 def clean_no_pattern(ctx: Context) -> bool:
     """The clean control shows no communication pattern: no vague reference, repair, filler or break."""
@@ -335,6 +345,7 @@ COMMON: tuple[Check, ...] = (
     no_added_state,
     scene_objects,
     no_dashes_colons,
+    varied_openers,
 )
 PATTERN_CHECKS: dict[str, dict[int, tuple[Check, ...]]] = {
     CLEAN: {0: (clean_no_pattern,)},

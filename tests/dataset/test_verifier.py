@@ -66,6 +66,14 @@ COMMON_CASES = [
     ),
     ("no_dashes_colons", POTATO, "clean", 0, CLEAN_OK, "Hi there: could you put a heated potato on the counter?"),
     (
+        "varied_openers",
+        POTATO,
+        "referential_imprecision",
+        2,
+        "Hi, put a heated thingamabob on the counter. Oh, the name. Well, the potato, that's what I mean.",
+        "Hi, put a heated thingamabob on the counter. Oh, the name. Oh, the potato, that's what I mean.",
+    ),
+    (
         "clean_no_pattern",
         POTATO,
         "clean",

@@ -59,20 +59,20 @@ def _versions(cells: list[Cell]) -> set[str]:
 
 
 KNOWN_UNMET: dict[str, frozenset[str]] = {
-    # Object Substitution's MTLD rises from clean to Level 1 and stays far above the paper's at Levels 2-3; Empty
-    # Speech's pronoun share follows the paper's own column (up, up, down), not its arrow.
-    "markers": frozenset({"mtld (object_substitution)", "pronoun_share (empty_speech)"}),
+    # Empty Speech's pronoun share and noun rate follow the paper's own columns (both turn back at Level 3), not
+    # its arrows. (Object Substitution's MTLD, which rose from clean to Level 1 in the unranked build, now falls.)
+    "markers": frozenset({"pronoun_share (empty_speech)", "noun_rate (empty_speech)"}),
     # The optional remarks after a Level 1 slip (45 and 93 sentences) come from small banks.
     "inserted": frozenset({"RI L1", "OS L1"}),
-    # rules-v2 repeated a few stock sentences per Topic Drift and Intrusion cell, which SmolLM2 predicts well;
-    # the build is not ranked for fluency (0.8 s per candidate: not run yet).
+    # rules-v2 repeated a few stock sentences about one persona per Topic Drift and Intrusion cell, which SmolLM2
+    # predicts well; ranking (margin 0.5) lowered every cell's perplexity but does not close these (keeping the
+    # best candidate would not either, and costs Topic Drift L1 its variety: docs/validation/ranking-pilot.md).
     "fluency": frozenset(
         {
             "empty_speech L3",
             "intrusion L1",
             "intrusion L2",
             "intrusion L3",
-            "referential_imprecision L2",
             "topic_drift L1",
             "topic_drift L2",
             "topic_drift L3",
