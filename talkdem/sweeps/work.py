@@ -109,7 +109,10 @@ def _has_run(folder: Path) -> bool:
 
 
 def _existing_shards(folder: Path) -> int | None:
-    """The shard count of the shard folders under `folder`, or None when there are none."""
+    """The shard count of the shard folders under `folder`, or None when there are none.
+
+    Some of a split's folders may be missing: a shard's folder is made when its job starts, so a sweep with
+    fewer workers than shards that stops early leaves only the shards it reached (their jobs start afresh)."""
     if not folder.is_dir():
         return None
     found = [m for p in folder.iterdir() if p.is_dir() and (m := _SHARD_NAME.fullmatch(p.name))]
@@ -118,8 +121,8 @@ def _existing_shards(folder: Path) -> int | None:
     counts = {int(m.group(2)) for m in found}
     indexes = {int(m.group(1)) for m in found}
     (count,) = counts if len(counts) == 1 else (0,)
-    if not count or indexes != set(range(1, count + 1)):
-        raise ValueError(f"{folder}: holds shard folders of different or incomplete splits; merge or remove them")
+    if not count or not indexes <= set(range(1, count + 1)):
+        raise ValueError(f"{folder}: holds shard folders of different splits; merge or remove them")
     return count
 
 
@@ -215,9 +218,8 @@ def _removing(folder: Path) -> Path:
 def _check_covered(run_dir: Path, folder: Path, count: int) -> None:
     """A run directory beside shard folders (a merge whose clean-up was cut short, or a run written meanwhile):
     every episode of it must be in a shard, since the merge replaces it."""
-    in_shards = {
-        e.episode_id for i in range(1, count + 1) for e in read_episodes(shard_folder(folder, Shard(i, count)))
-    }
+    shards = [shard_folder(folder, Shard(i, count)) for i in range(1, count + 1)]
+    in_shards = {e.episode_id for shard in shards if (shard / HEADER_FILE).is_file() for e in read_episodes(shard)}
     stray = [e.episode_id for e in read_episodes(run_dir) if e.episode_id not in in_shards]
     if stray:
         raise ValueError(

@@ -65,6 +65,38 @@ def test_a_run_on_disk_is_split_resumed_merged_and_then_left_alone(tmp_path: Pat
     assert again.failures == () and (again.resumed, again.episodes) == (4, 4)
 
 
+def test_a_sweep_stopped_before_its_last_shards_started_resumes(tmp_path: Path) -> None:
+    """One worker, two shards: the second shard's folder is made only when its job starts, so a sweep stopped
+    during the first leaves one shard folder; the resume runs the missing shard and merges both."""
+    spec = load_sweep(_spec(tmp_path))
+    (run,) = spec.runs
+    first = spec.out / ".sweep" / run.name / "shard-1-of-2"
+    _serial_shard(first, "1/2")  # what the stopped sweep had finished
+    started = _records(first)
+    result = run_sweep(spec, workers=1, shards=2, threads=1, progress=False, talkdem=SCRIPTED)
+    assert result.failures == () and result.complete == (str(run.run_dir),)
+    assert (result.resumed, result.episodes) == (len(started), 4)
+    serial = tmp_path / "serial"
+    _serial(serial, "clean,intrusion:1")
+    assert _records(run.run_dir) == _records(serial)
+
+
+def test_shard_folders_of_different_splits_are_refused(tmp_path: Path) -> None:
+    spec = load_sweep(_spec(tmp_path))
+    (run,) = spec.runs
+    for folder in ("shard-1-of-2", "shard-2-of-3"):
+        (spec.out / ".sweep" / run.name / folder).mkdir(parents=True)
+    with pytest.raises(ValueError, match=r"holds shard folders of different splits"):
+        run_sweep(spec, workers=1, threads=1, progress=False, talkdem=SCRIPTED)
+
+
+def _serial_shard(out: Path, shard: str) -> None:
+    selection = ["--max-steps", "4", "--conditions", "clean,intrusion:1", "--limit", "2", "--shard", shard]
+    command = [*SCRIPTED, "run", *RUN, *selection, "--out", str(out)]
+    done = subprocess.run(command, capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == 0, done.stderr
+
+
 def test_a_finished_run_with_other_settings_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     spec = load_sweep(_spec(tmp_path))
     assert run_sweep(spec, workers=1, threads=1, progress=False, talkdem=SCRIPTED).failures == ()
