@@ -483,7 +483,8 @@ validation"). The memory bank was re-selected so that it shares no ALFRED task w
 Every utterance is checked deterministically against the seed task and the scene list: task preservation (each
 task verb of the seed, the target object, the destination, the container, the lamp of look-at tasks, and each
 state word such as hot/heated, cold/chilled, clean/rinsed, sliced), no added state of another kind, no object
-type absent from the scene, ordinary punctuation (no dashes or colons), and the pattern's structure
+type absent from the scene, ordinary punctuation (no dashes or colons), no two sentences that open with the same
+lead-in ("Oh, the name. Oh, the apple."; the ranking model favoured such repeats), and the pattern's structure
 (Referential Imprecision: a vague reference before the name, with the level's distance; Object Substitution: a
 competing in-scene object first, then a correction; Empty Speech: non-informative speech inside the request,
 more at higher levels; Topic Drift: off-task sentences after the complete request mentioning other scene
