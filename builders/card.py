@@ -297,8 +297,10 @@ def render_card(stats: dict[str, Any], folder: Path) -> str:
     )
 
 
-# Measured on this project's 2-core machines (ranking step of issue 19): 0.82 s per candidate, one thread.
-_RANK_SECONDS_PER_CANDIDATE = 0.82
+# Measured on this project's 2-core machine: the ranked build of data/ (25,600 candidates, Qwen2.5-Coder-0.5B)
+# took 1 h 57 min with --workers 2 (one thread each; 30 min of it beside a test suite), 0.55 s per candidate and
+# thread (the ranking pilot had estimated 0.82 s).
+_RANK_SECONDS_PER_CANDIDATE = 0.55
 
 
 def _candidates_text(info: dict[str, Any], requests: int) -> str:
