@@ -63,7 +63,7 @@ def markers_table(markers: dict[str, Any]) -> str:
         rows.append(
             f"| {entry['marker_label']} | {entry['pattern_abbreviation']} | {arrow} | "
             + " | ".join(cells)
-            + f" | {'yes' if entry['holds'] else 'NO'} |"
+            + f" | {_moves(entry)} |"
         )
     if total:
         rows += [
@@ -225,19 +225,42 @@ _DEFINITIONS: tuple[tuple[str, str, str], ...] = (
 """Per marker: (name, what the paper says, what we compute). Shown in the card."""
 
 
+def _moves(entry: dict[str, Any]) -> str:
+    """yes: step by step in the paper's arrow; "as the paper's column" where that column turns back and ours too."""
+    from builders.markers.paper import follows_papers_column
+
+    if entry["holds"]:
+        return "yes"
+    turns_with_the_paper = follows_papers_column(entry["marker"], entry["pattern"], entry["values"])
+    return "as the paper's column" if turns_with_the_paper else "NO"
+
+
 def _definitions() -> str:
     rows = ["| Marker | The paper | Ours |", "| --- | --- | --- |"]
     rows += [f"| {m} | {paper} | {ours} |" for m, paper, ours in _DEFINITIONS]
     return "\n".join(rows)
 
 
-def _departures() -> str:
+def _departures(markers: dict[str, Any]) -> str:
+    """The paper's non-monotonic columns: what the generator aims at, and how this data moves (from markers.json)."""
     from builders.markers.measures import MARKERS
-    from builders.markers.paper import DEPARTURES
+    from builders.markers.paper import DEPARTURES, LEVEL_KEYS, follows_papers_column
 
-    lines = ["Where the paper's own column is not monotonic we keep its arrow instead:", ""]
+    shipped = {(d["marker"], d["pattern"]): d for d in markers["directions"]}
+    lines = ["Where the paper's own column is not monotonic, the data may follow its arrow or its column:", ""]
     for (marker, pattern), why in DEPARTURES.items():
-        lines.append(f"- {MARKERS[marker]} ({pattern.replace('_', ' ')}): {why}")
+        line = f"- {MARKERS[marker]} ({pattern.replace('_', ' ')}): {why}"
+        if entry := shipped.get((marker, pattern)):
+            values = entry["values"]
+            if entry["holds"]:
+                moves = "the paper's arrow, step by step"
+            elif follows_papers_column(marker, pattern, values):
+                moves = "the paper's own column, step by step"
+            else:
+                moves = "neither the paper's arrow nor its column"
+            chain = " -> ".join(f"{values[k]:.2f}" if abs(values[k]) >= 1 else f"{values[k]:.3f}" for k in LEVEL_KEYS)
+            line += f" On this data (clean -> L1 -> L2 -> L3: {chain}) it follows {moves}."
+        lines.append(line)
     return "\n".join(lines)
 
 
@@ -272,7 +295,7 @@ def render_card(stats: dict[str, Any], folder: Path) -> str:
             f"values are means over the 300 instructions of each cell. The full results are in `markers.json`.\n\n"
             + markers_table(markers)
         )
-        markers_part += "\n\n" + _departures()
+        markers_part += "\n\n" + _departures(markers)
     else:
         markers_part = "Not computed for this build yet: run `talkdem markers`."
     if validation := validation_section(folder):  # empty until `talkdem validate-dataset` has run

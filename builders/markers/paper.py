@@ -10,7 +10,16 @@ rows, so they never decide a cell; they only keep the rule defined for any value
 
 from __future__ import annotations
 
-__all__ = ["DEPARTURES", "FLOORS", "LEVEL_KEYS", "PAPER", "RELATIVE_TOLERANCE", "tolerance", "within"]
+__all__ = [
+    "DEPARTURES",
+    "FLOORS",
+    "LEVEL_KEYS",
+    "PAPER",
+    "RELATIVE_TOLERANCE",
+    "follows_papers_column",
+    "tolerance",
+    "within",
+]
 
 LEVEL_KEYS = ("clean", "1", "2", "3")
 
@@ -56,14 +65,15 @@ DEPARTURES: dict[tuple[str, str], str] = {
     ),
     ("pronoun_share", "empty_speech"): (
         "The paper's Level 3 (0.413) falls below its Level 2 (0.461). rules-v2 kept rising with the amount of "
-        "empty speech; rules-v3, whose Level 3 adds more whole empty sentences with fewer pronouns, follows the "
-        "paper's own column (up, up, down), not the arrow."
+        "empty speech; rules-v3's Level 3 adds more whole empty sentences with fewer pronouns, aiming at the "
+        "paper's own column (up, up, down) rather than the arrow."
     ),
     ("noun_rate", "empty_speech"): (
-        "The paper's Level 3 (0.168) is above its Level 2 (0.163); ours keeps falling (both inside the bands)."
+        "The paper's Level 3 (0.168) is a little above its Level 2 (0.163); the generator aims at neither shape."
     ),
 }
-"""Where the paper's own column is not monotonic and we keep the paper's arrow instead, and why."""
+"""Where the paper's own column is not monotonic: what the generator aims at there, and why. How the shipped data
+actually moves is computed from markers.json wherever it is shown (`follows_papers_column`)."""
 
 
 def tolerance(marker: str, paper_value: float) -> float:
@@ -72,3 +82,13 @@ def tolerance(marker: str, paper_value: float) -> float:
 
 def within(marker: str, paper_value: float, ours: float) -> bool:
     return abs(ours - paper_value) <= tolerance(marker, paper_value)
+
+
+def follows_papers_column(marker: str, pattern: str, values: dict[str, float]) -> bool:
+    """Where the paper's own column turns back (a DEPARTURES entry), whether ours turns with it: every step
+    (clean-L1, L1-L2, L2-L3) has the sign of the paper's step. Always False elsewhere, where the arrow rules."""
+    if (marker, pattern) not in DEPARTURES:
+        return False
+    ours = [values[k] for k in LEVEL_KEYS]
+    paper = PAPER[(marker, pattern)]
+    return all((b - a) * (d - c) > 0 for a, b, c, d in zip(ours, ours[1:], paper, paper[1:], strict=False))

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -179,16 +180,26 @@ KNOWN_DEPARTURES: set[tuple[str, str]] = set()
 build (2026-12-04): the unranked rules-v3 build's Object Substitution MTLD rose from clean to Level 1."""
 
 
-def _moves_as_the_papers_column(entry: dict[str, object]) -> bool:
-    """Where the paper's own column is not monotonic (its DEPARTURES), the data may follow that column step by
-    step instead of the arrow: every step (clean-L1, L1-L2, L2-L3) has the sign of the paper's step."""
-    from builders.markers.paper import DEPARTURES, LEVEL_KEYS, PAPER
+def _moves_as_the_papers_column(entry: dict[str, Any]) -> bool:
+    from builders.markers.paper import follows_papers_column
 
-    key = (str(entry["marker"]), str(entry["pattern"]))
-    if key not in DEPARTURES:
-        return False
-    values = entry["values"]
-    assert isinstance(values, dict)
-    ours = [float(values[k]) for k in LEVEL_KEYS]
-    paper = PAPER[key]
-    return all((b - a) * (d - c) > 0 for a, b, c, d in zip(ours, ours[1:], paper, paper[1:], strict=False))
+    return follows_papers_column(entry["marker"], entry["pattern"], entry["values"])
+
+
+def test_a_turning_column_may_be_followed_only_where_the_paper_turns() -> None:
+    from builders.markers.paper import follows_papers_column
+
+    # Empty Speech pronoun share: the paper goes up, up, down
+    assert follows_papers_column("pronoun_share", "empty_speech", {"clean": 0.2, "1": 0.3, "2": 0.5, "3": 0.45})
+    assert not follows_papers_column("pronoun_share", "empty_speech", {"clean": 0.2, "1": 0.3, "2": 0.5, "3": 0.55})
+    # a marker whose paper column is monotonic has only the arrow
+    assert not follows_papers_column("parse_depth", "intrusion", {"clean": 3.4, "1": 2.7, "2": 2.6, "3": 2.7})
+
+
+def test_the_card_says_how_each_turning_marker_moves_on_this_data() -> None:
+    card = (DATA / "README.md").read_text()
+    for entry in json.loads((DATA / "markers.json").read_text())["directions"]:
+        if (entry["marker"], entry["pattern"]) == ("noun_rate", "empty_speech"):
+            expected = "the paper's arrow" if entry["holds"] else "the paper's own column"
+            line = next(x for x in card.splitlines() if x.startswith("- Noun rate (empty speech)"))
+            assert f"it follows {expected}" in line
