@@ -101,10 +101,23 @@ def test_greedy_generation_is_deterministic_and_scoring_still_right_after_it(
     llama: LlamaCppLM, saycan_prompt: str
 ) -> None:
     before = llama.score_continuations(saycan_prompt, SAMPLE)
+    held = llama._llm.n_tokens
     request = GenerateRequest(saycan_prompt + " ", max_new_tokens=16, stop=(",", "\n"))
     first = llama.generate([request])
     assert first == llama.generate([request]) and first[0] and "," not in first[0]
+    # Generation runs in its own context: the scoring context still holds the prompt for the next call.
+    assert llama._llm.n_tokens == held > 0 and llama._generator is not None
     assert llama.score_continuations(saycan_prompt, SAMPLE) == pytest.approx(before, abs=1e-3)
+
+
+@pytest.mark.slow
+def test_generation_does_not_depend_on_the_request_before(llama: LlamaCppLM, saycan_prompt: str) -> None:
+    """The generation context starts each request from an empty cache, so a request generates the same text
+    after another one as in a fresh model (a sharded or resumed run generates what a serial run does)."""
+    request = GenerateRequest(saycan_prompt + " ", max_new_tokens=16, stop=(",", "\n"))
+    fresh = LlamaCppLM("smollm2-135m-instruct", threads=2).generate([request])
+    llama.generate([GenerateRequest(saycan_prompt[: len(saycan_prompt) // 2], max_new_tokens=8)])
+    assert llama.generate([request]) == fresh
 
 
 @pytest.mark.slow

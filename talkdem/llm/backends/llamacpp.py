@@ -22,8 +22,11 @@ step scored 0.12-0.46 nats apart when the cache had held the previous steps (eac
 when it started empty. With the batch layout a function of the context alone, a step's scores do not depend
 on which episode or step ran before it, so a run split into shards or resumed scores every step as one
 uninterrupted run does. The cost is the last partial chunk, run again at each step (8 tokens on average).
-Generation (CoT's hint, TOCC's rewrite) starts from an empty cache for the same reason, and the next scoring
-call then runs its prompt from the start.
+Generation (CoT's hint, TOCC's rewrite, the generative and ReAct planners' steps) runs in a second context on
+the same weights (memory-mapped once), made on first use: from an empty cache for the same reason, and with only
+the last position's logits computed, which is all sampling needs. The scoring context keeps what it held, so the
+next episode's scoring still reuses the few-shot prefix (measured on CoT: the scoring context had been re-run from
+the start after every hint, about a third of an episode's time).
 """
 
 from __future__ import annotations
@@ -143,19 +146,21 @@ class LlamaCppLM(LanguageModel):
             raise ImportError(_MISSING) from error
         path, name, sha256 = _resolve(model)
         self.path = path
-        self._llm: Any = Llama(
-            model_path=str(path),
-            n_ctx=n_ctx,
-            n_batch=n_batch,
-            n_threads=threads,
-            n_threads_batch=threads,
-            logits_all=True,
-            seed=seed,
-            flash_attn=False,
-            type_k=_GGML_TYPE_F32 if f32_kv_cache else None,  # None: llama.cpp's default (float16)
-            type_v=_GGML_TYPE_F32 if f32_kv_cache else None,
-            verbose=False,
-        )
+        self._context_options: dict[str, Any] = {
+            "model_path": str(path),
+            "n_ctx": n_ctx,
+            "n_batch": n_batch,
+            "n_threads": threads,
+            "n_threads_batch": threads,
+            "seed": seed,
+            "flash_attn": False,
+            "type_k": _GGML_TYPE_F32 if f32_kv_cache else None,  # None: llama.cpp's default (float16)
+            "type_v": _GGML_TYPE_F32 if f32_kv_cache else None,
+            "verbose": False,
+        }
+        self._llm: Any = Llama(logits_all=True, **self._context_options)
+        self._generator: Any = None
+        """The generation context (`_generation_context`), made on first use."""
         self.context_chunk = context_chunk
         self._canonical = 0
         """Leading cached positions computed in full chunks at their fixed places (reusable as they are)."""
@@ -344,11 +349,12 @@ class LlamaCppLM(LanguageModel):
     # -- generation -----------------------------------------------------------------------------------
     def generate(self, requests: Sequence[GenerateRequest]) -> list[str]:
         outputs = []
+        llm = self._generation_context()
         for request in requests:
             # From an empty cache: llama-cpp-python runs the prompt from its longest match with what the cache
-            # holds, in its own batches, so the text it generates would depend on the episode before (see the
-            # module docstring). This also keeps it from sampling from a candidate's logits left by scoring.
-            self.forget_context()
+            # holds, in its own batches, so the text it generates would depend on the request before (see the
+            # module docstring).
+            llm.reset()
             options: dict[str, Any] = {
                 "max_tokens": request.max_new_tokens,
                 "temperature": request.temperature,
@@ -362,13 +368,21 @@ class LlamaCppLM(LanguageModel):
                     # llama-cpp-python turns a `json_object` format with a schema into a GBNF grammar that
                     # constrains sampling: the completion is JSON following the schema (or cut at max_tokens).
                     options["response_format"] = {"type": "json_object", "schema": schema}
-                response = self._llm.create_chat_completion(messages=request.messages(), **options)
+                response = llm.create_chat_completion(messages=request.messages(), **options)
                 text = response["choices"][0]["message"]["content"] or ""
             else:
                 if schema is not None:
                     options["grammar"] = _grammar(request.json_schema)
-                response = self._llm.create_completion(request.completion_text(), **options)
+                response = llm.create_completion(request.completion_text(), **options)
                 text = response["choices"][0]["text"]
             outputs.append(cut_at_stop(str(text), request.stop).strip())
-            self._canonical = 0  # what it left in the cache is not in our batch layout
         return outputs
+
+    def _generation_context(self) -> Any:
+        """The context that generates: the same weights and settings as the scoring context, without the
+        logits of every position (scoring reads them; sampling needs the last one only)."""
+        if self._generator is None:
+            from llama_cpp import Llama
+
+            self._generator = Llama(logits_all=False, **self._context_options)
+        return self._generator
