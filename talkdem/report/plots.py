@@ -23,6 +23,7 @@ __all__ = [
     "PlotFile",
     "heatmap_figure",
     "radar_figure",
+    "radar_limit",
     "retention_figure",
     "success_figure",
     "write_plots",
@@ -246,10 +247,16 @@ def _strategy_order(name: str) -> tuple[int, str]:
     return (order.index(name) if name in order else len(order), name)
 
 
+def radar_limit(values: Sequence[float]) -> int:
+    """The radar's radial limit (%) for these values: the largest rounded up to a multiple of 10, from 10 to 100."""
+    largest = max(values, default=0.0)
+    return int(min(100, max(10, 10 * math.ceil(largest / 10))))
+
+
 def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
     """Radar charts: one per model run under two or more strategies, SR (%) on clean and each pattern, one
     polygon per strategy. Only planner runs with a non-zero value take part; the returned note says which
-    runs were left out, and why (an empty figure says so in words)."""
+    runs were left out, and why (an empty figure says so in words), and where the radial axis ends below 100%."""
     plt = _pyplot()
     planner_runs = [r for r in runs if r.compared_as_strategy]
     zero = [r for r in planner_runs if not any(_pct(r.scores.success_rate[k]) > 0 for k in ("clean", *PATTERN_CONFIGS))]
@@ -270,6 +277,19 @@ def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
     if single:
         notes.append("one strategy only, nothing to compare: " + ", ".join(_one_line(m) for m in single))
         models = {m: g for m, g in models.items() if m not in single}
+    # The radial axis ends at the largest value drawn, rounded up to 10 points: at 0-100 a small model's polygons
+    # (success rates of 5-25%) crowd the centre and their differences cannot be read. Shared by every chart of
+    # the figure, so polygons of different models stay comparable, and stated on the figure when it is not 0-100.
+    drawn = [
+        _pct(r.scores.success_rate[k])
+        for group in models.values()
+        for r in group
+        for k in ("clean", *PATTERN_CONFIGS)
+        if not math.isnan(_pct(r.scores.success_rate[k]))
+    ]
+    radial_max = radar_limit(drawn)
+    if models and radial_max < 100:
+        notes.append(f"radial axis 0-{radial_max}% (the largest success rate drawn, rounded up), not 0-100%")
     note = "; ".join(notes)
     if not models:
         fig, ax = plt.subplots(figsize=(7.0, 2.4))
@@ -306,7 +326,7 @@ def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
             ax.plot([*angles, angles[0]], closed, linewidth=1.5, color=color[run.strategy], label=run.strategy)
             ax.fill([*angles, angles[0]], closed, alpha=0.08, color=color[run.strategy])
         ax.set_xticks(angles, axes_labels)
-        ax.set_ylim(0, 100)
+        ax.set_ylim(0, radial_max)
         ax.set_rlabel_position(360 / len(axes_labels) / 2)  # between two axes, clear of their labels
         ax.set_title(_one_line(model), fontsize=9)
     handles = [plt.Line2D([], [], color=color[name], linewidth=1.5, label=name) for name in strategies]

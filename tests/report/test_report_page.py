@@ -124,6 +124,26 @@ def test_radar_skips_all_zero_runs_or_says_why_it_is_empty(mixed_runs: list[Scor
     assert "No strategy comparison" in shown and "scored 0" in shown
 
 
+def test_radar_scale_fits_the_values_drawn_and_says_so(mixed_runs: list[ScoredRun]) -> None:
+    from talkdem.report.plots import radar_figure, radar_limit
+
+    assert [radar_limit(v) for v in ([], [0.0], [3.0, 21.7], [30.0], [85.0], [97.0], [100.0])] == [
+        10,
+        10,
+        30,
+        30,
+        90,
+        100,
+        100,
+    ]
+    fig, note = radar_figure(mixed_runs)
+    polar = fig.axes[0]
+    drawn = [y for line in polar.lines for y in line.get_ydata()]
+    top = polar.get_ylim()[1]
+    assert max(drawn) <= top < max(drawn) + 10 or top == 10
+    assert (f"radial axis 0-{top:.0f}%" in note) == (top < 100)
+
+
 def test_heatmap_writes_every_cell(mixed_runs: list[ScoredRun]) -> None:
     from talkdem.report.plots import heatmap_figure
 
