@@ -253,6 +253,12 @@ def radar_limit(values: Sequence[float]) -> int:
     return int(min(100, max(10, 10 * math.ceil(largest / 10))))
 
 
+def _radar_values(run: ScoredRun) -> list[float]:
+    """SR (%) on clean and each pattern, in the radar's axis order; a condition not run is drawn at 0."""
+    values = [_pct(run.scores.success_rate[k]) for k in ("clean", *PATTERN_CONFIGS)]
+    return [0.0 if math.isnan(v) else v for v in values]
+
+
 def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
     """Radar charts: one per model run under two or more strategies, SR (%) on clean and each pattern, one
     polygon per strategy. Only planner runs with a non-zero value take part; the returned note says which
@@ -280,14 +286,7 @@ def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
     # The radial axis ends at the largest value drawn, rounded up to 10 points: at 0-100 a small model's polygons
     # (success rates of 5-25%) crowd the centre and their differences cannot be read. Shared by every chart of
     # the figure, so polygons of different models stay comparable, and stated on the figure when it is not 0-100.
-    drawn = [
-        _pct(r.scores.success_rate[k])
-        for group in models.values()
-        for r in group
-        for k in ("clean", *PATTERN_CONFIGS)
-        if not math.isnan(_pct(r.scores.success_rate[k]))
-    ]
-    radial_max = radar_limit(drawn)
+    radial_max = radar_limit([v for group in models.values() for r in group for v in _radar_values(r)])
     if models and radial_max < 100:
         notes.append(f"radial axis 0-{radial_max}% (the largest success rate drawn, rounded up), not 0-100%")
     note = "; ".join(notes)
@@ -319,9 +318,7 @@ def radar_figure(runs: Sequence[ScoredRun]) -> tuple[Any, str]:
     color = {name: palette[i % len(palette)] for i, name in enumerate(strategies)}
     for ax, (model, group) in zip(axes[0], models.items(), strict=True):
         for run in group:
-            s = run.scores
-            values = [_pct(s.success_rate["clean"]), *(_pct(s.success_rate[p]) for p in PATTERN_CONFIGS)]
-            values = [0.0 if math.isnan(v) else v for v in values]
+            values = _radar_values(run)
             closed = [*values, values[0]]
             ax.plot([*angles, angles[0]], closed, linewidth=1.5, color=color[run.strategy], label=run.strategy)
             ax.fill([*angles, angles[0]], closed, alpha=0.08, color=color[run.strategy])
