@@ -89,6 +89,10 @@ class RunHeader:
     code_revisions: tuple[str, ...] = ()
     """Every code revision that wrote episodes, oldest first, when there was more than one (a resume with
     `--continue-on-new-revision`, or a merge of shards run on different revisions)."""
+    runtimes: tuple[dict[str, str], ...] = ()
+    """Every distinct runtime that wrote episodes (Python, platform, CPU model, the backend's libraries and their
+    build: `talkdem.runs.runtime`), in the order first seen; a sitting on the same machine and build adds
+    nothing. Empty in headers written before runtimes were recorded, and for runs whose model ran elsewhere."""
 
     @classmethod
     def new(
@@ -100,8 +104,10 @@ class RunHeader:
         prompt_version: str,
         config: dict[str, Any],
         inputs: dict[str, str] | None = None,
+        runtime: dict[str, str] | None = None,
     ) -> RunHeader:
-        """A header for a run starting now (status `running`), on this dataset and this code revision."""
+        """A header for a run starting now (status `running`), on this dataset and this code revision;
+        `runtime`: this sitting's (`talkdem.runs.runtime.sitting_runtime`), when known."""
         from talkdem.instructions import dataset_hash
         from talkdem.runs.revision import code_revision
 
@@ -116,6 +122,7 @@ class RunHeader:
             created=dt.datetime.now(dt.UTC).isoformat(timespec="seconds"),
             inputs=dict(inputs or {}),
             status="running",
+            runtimes=(dict(runtime),) if runtime else (),
         )
 
     def with_changes(self, **changes: Any) -> RunHeader:
@@ -156,6 +163,12 @@ class RunHeader:
         revisions = _field(data, "code_revisions", object, where, [])
         if not isinstance(revisions, list) or not all(isinstance(r, str) for r in revisions):
             raise RecordError(f"{where}: field 'code_revisions' must be a list of strings")
+        runtimes = _field(data, "runtimes", object, where, [])
+        if not isinstance(runtimes, list) or not all(
+            isinstance(r, dict) and all(isinstance(k, str) and isinstance(v, str) for k, v in r.items())
+            for r in runtimes
+        ):
+            raise RecordError(f"{where}: field 'runtimes' must be a list of objects mapping names to strings")
         config = dict(_field(data, "config", dict, where, {}))
         check_config(config, where)
         return cls(
@@ -171,6 +184,7 @@ class RunHeader:
             inputs=dict(inputs),
             status=status,
             code_revisions=tuple(revisions),
+            runtimes=tuple(dict(r) for r in runtimes),
         )
 
 

@@ -27,6 +27,7 @@ from talkdem.planner.react import ReActConfig, ReActPlanner
 from talkdem.planner.saycan import PlanResult, SayCanConfig, SayCanPlanner
 from talkdem.planner.strategies import PlannerInput, Strategy
 from talkdem.runs.records import EpisodeRecord
+from talkdem.runs.runtime import sitting_runtime
 from talkdem.runs.spec import RESUME_KEYS, RunSpec, Scalar
 from talkdem.runs.store import (
     EPISODES_FILE,
@@ -132,6 +133,7 @@ def run_episodes(
         model=model.identity.to_header(),
         planned_episodes=len(instructions),
         served=served,
+        runtime=sitting_runtime(model) if not served else None,  # a served model's numbers come from its server
     )
     is_new = not run_dir.exists()
     try:

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from talkdem.runs.episode_files import PACKED_EPISODES_FILE, episodes_file, pack_bytes, replace_file
 from talkdem.runs.records import EpisodeRecord, RunHeader
+from talkdem.runs.runtime import add_runtime
 from talkdem.runs.spec import MERGE_KEYS, differences
 from talkdem.runs.store import EPISODES_FILE, read_episodes, read_header, run_lock, write_header
 
@@ -154,9 +155,14 @@ def merge_runs(out: Path, shard_dirs: Sequence[Path], allow_incomplete: bool = F
             recorded = header.config.get("code_revisions")  # where older versions put them
             history = header.code_revisions or tuple(recorded if isinstance(recorded, list) else [header.code_revision])
             revisions += [r for r in history if r and r not in revisions]
+        runtimes: tuple[dict[str, str], ...] = ()
+        for header in headers:  # every runtime that wrote episodes, in shard order
+            for runtime in header.runtimes:
+                runtimes = add_runtime(runtimes, runtime)
         merged = first.with_changes(
             config=config,
             code_revisions=tuple(revisions) if len(revisions) > 1 else (),
+            runtimes=runtimes,
             status="incomplete" if missing else "complete",
         )
         write_header(out, merged)

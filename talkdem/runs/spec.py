@@ -219,9 +219,15 @@ class RunSpec:
         return MERGE_KEYS
 
     def header(
-        self, *, model: dict[str, str], planned_episodes: int, served: Mapping[str, object] | None = None
+        self,
+        *,
+        model: dict[str, str],
+        planned_episodes: int,
+        served: Mapping[str, object] | None = None,
+        runtime: dict[str, str] | None = None,
     ) -> RunHeader:
-        """The header of this run (status `running`, the current code revision and dataset hash)."""
+        """The header of this run (status `running`, the current code revision and dataset hash; `runtime`:
+        this sitting's, when the model runs in this process)."""
         from talkdem.planner.prompt import prompt_version
         from talkdem.planner.react import react_prompt_version
 
@@ -260,6 +266,7 @@ class RunSpec:
             prompt_version=version,
             config=config,
             inputs=self.inputs,
+            runtime=runtime,
         )
 
 

@@ -165,12 +165,14 @@ def open_run(
 ) -> list[EpisodeRecord]:
     """Start `run_dir` with `header`, or check that the run already there is the same run (every key of
     `must_match`, top-level header fields or `config.NAME`, equal; every input file unchanged; the same
-    code revision unless `new_revision_ok`) and return its finished episodes.
+    code revision unless `new_revision_ok`) and return its finished episodes. This sitting's runtime (the
+    new header's) joins the recorded ones.
 
     The caller holds `run_lock(run_dir)`. On resume the header keeps its creation date and input hashes
     and takes the new selection (conditions, sample size, planned episode count) and status `running`:
     extending a run to more tasks is allowed, changing what a result means is not. Nothing is ever
     deleted here but a truncated last line."""
+    from talkdem.runs.runtime import add_runtime
     from talkdem.runs.spec import check_same_run
 
     header_path = run_dir / HEADER_FILE
@@ -186,6 +188,7 @@ def open_run(
                 status="running",
                 code_revision=header.code_revision if revisions else existing.code_revision,
                 code_revisions=revisions,
+                runtimes=add_runtime(existing.runtimes, header.runtimes[0] if header.runtimes else {}),
             ),
         )
         return done

@@ -140,7 +140,14 @@ def test_a_run_records_its_thread_count(tmp_path: Path) -> None:
     out = tmp_path / "run"
     command = ["run", "--backend", "llamacpp", "--model", "smollm2", "--threads", "1", "--conditions", "clean"]
     assert main([*command, "--limit", "1", "--max-steps", "1", "--no-progress", "--out", str(out)]) == 0
-    assert read_header(out).config["threads"] == 1
+    header = read_header(out)
+    assert header.config["threads"] == 1
+    # ... and the build that computed it: llama-cpp-python is compiled on each machine for its CPU's features.
+    import llama_cpp
+
+    (runtime,) = header.runtimes
+    assert runtime["llama_cpp_python"] == llama_cpp.__version__
+    assert runtime["llama_cpp_system_info"].startswith("CPU :")
 
 
 @pytest.mark.slow

@@ -200,6 +200,8 @@ def _header_with(tmp_path: Path, **changes: object) -> Path:
         ({"inputs": {"data/x": "abc"}}, "'inputs' must map file names to sha256 hex digests"),
         ({"dataset_hash": "not-a-hash"}, "'dataset_hash' must be a sha256 hex digest"),
         ({"code_revisions": "abc"}, "'code_revisions' must be a list of strings"),
+        ({"runtimes": [{"cpu": 3}]}, "'runtimes' must be a list of objects mapping names to strings"),
+        ({"runtimes": {"cpu": "x"}}, "'runtimes' must be a list of objects mapping names to strings"),
         ({"created": "yesterday"}, "'created' must be an ISO date and time"),
     ],
 )
@@ -247,6 +249,33 @@ def test_resuming_a_run_without_input_hashes_says_they_are_unknown(tmp_path: Pat
     assert header.inputs == {} and header.status == "complete"  # unknown stays unknown: nothing is made up
 
 
+def test_each_sittings_runtime_is_recorded_once(tmp_path: Path) -> None:
+    import platform
+
+    from talkdem.runs.runtime import cpu_model
+
+    run_dir = _half_run(tmp_path, None)
+    (here,) = read_header(run_dir).runtimes
+    # The scripted model describes no libraries: what is left is the machine's, and nothing names the machine.
+    assert here == {
+        "python": platform.python_version(),
+        "platform": f"{platform.system()} {platform.machine()}",
+        "cpu": cpu_model(),
+    }
+    assert platform.node() not in json.dumps(here)
+    header_path = run_dir / "header.json"
+    stored = json.loads(header_path.read_text())
+    elsewhere = {**here, "cpu": "Another CPU", "llama_cpp_system_info": "CPU : AVX2 = 1 |"}
+    stored["runtimes"] = [elsewhere]  # the first sitting ran on another machine
+    header_path.write_text(json.dumps(stored))
+    assert _finish(_scripted(run_dir, None))[0] == 0
+    assert read_header(run_dir).runtimes == (elsewhere, here)
+    lines = (run_dir / "episodes.jsonl").read_text().splitlines()
+    (run_dir / "episodes.jsonl").write_text(lines[0] + "\n")
+    assert _finish(_scripted(run_dir, None))[0] == 0  # a third sitting here adds nothing
+    assert read_header(run_dir).runtimes == (elsewhere, here)
+
+
 def test_split_and_merge_keep_status_inputs_and_revisions(tmp_path: Path) -> None:
     from talkdem.runs.shards import merge_runs, split_run
 
@@ -262,6 +291,9 @@ def test_split_and_merge_keep_status_inputs_and_revisions(tmp_path: Path) -> Non
     stored = json.loads(path.read_text())
     current = stored["code_revision"]
     stored["code_revision"] = "0" * 40  # the second shard was started on another machine's checkout
+    (here,) = stored["runtimes"]
+    elsewhere = {**here, "cpu": "Another CPU"}
+    stored["runtimes"] = [elsewhere]
     path.write_text(json.dumps(stored))
     for index, folder in ((1, first), (2, second)):
         process = _scripted(folder, None, "--shard", f"{index}/2", "--continue-on-new-revision")
@@ -271,6 +303,7 @@ def test_split_and_merge_keep_status_inputs_and_revisions(tmp_path: Path) -> Non
     header = read_header(merged.out)
     assert header.status == "complete" and header.inputs == inputs
     assert sorted(header.code_revisions) == sorted([current, "0" * 40])
+    assert header.runtimes == (here, elsewhere)  # every runtime that wrote episodes, in shard order
     # Shards whose input files differ are not one run.
     stored = json.loads(path.read_text())
     stored["inputs"]["data/tasks/benchmark.jsonl"] = "f" * 64

@@ -88,6 +88,17 @@ class HFCausalLM(LanguageModel):
         self.split = HFTokenSplit(self.tokenizer)
         self.scorer: PrefixCachedScorer = PrefixCachedScorer(self.model, max_packed_tokens=max_packed_tokens)
 
+    def runtime(self) -> dict[str, str]:
+        """torch and transformers versions and the device the model runs on."""
+        import torch
+        import transformers
+
+        return {
+            "torch": torch.__version__,
+            "transformers": transformers.__version__,
+            "device": str(next(self.model.parameters()).device),
+        }
+
     # -- tokenization, done once and centrally -------------------------------------------------------
     def token_count(self, text: str) -> int:
         return len(self.encode(text))

@@ -197,6 +197,15 @@ class LlamaCppLM(LanguageModel):
         self.tokens_evaluated += len(tokens)
         self._llm.eval(list(tokens))
 
+    def runtime(self) -> dict[str, str]:
+        """llama-cpp-python's version and the CPU features its llama.cpp was compiled with: the package is
+        built from source on each machine (`make setup`), and the kernels those features select move scores."""
+        import llama_cpp
+
+        features = llama_cpp.llama_print_system_info()
+        text = features.decode(errors="replace") if isinstance(features, bytes) else str(features)
+        return {"llama_cpp_python": llama_cpp.__version__, "llama_cpp_system_info": " ".join(text.split())}
+
     # -- tokenization, done once and centrally -------------------------------------------------------
     def token_count(self, text: str) -> int:
         return len(self.encode(text))

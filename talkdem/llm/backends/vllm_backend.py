@@ -150,6 +150,9 @@ class VLLMLM(LanguageModel):
         self.split = HFTokenSplit(self.tokenizer)
         self.identity = ModelIdentity(backend="vllm", name=model, revision=revision or "")
 
+    def runtime(self) -> dict[str, str]:
+        return {"vllm": str(getattr(self._vllm, "__version__", ""))}
+
     def token_count(self, text: str) -> int:
         return len(self.encode(text))
 

@@ -100,6 +100,13 @@ class LanguageModel(ABC):
         served model name, the tokenizer); empty for in-process backends."""
         return {}
 
+    def runtime(self) -> dict[str, str]:
+        """The libraries that compute this model's numbers in this process, with versions and build features
+        (llama.cpp: the llama-cpp-python version and the CPU features it was compiled for), recorded per sitting
+        in a run's header (`runtimes`) because scores move with them; empty where the computation happens
+        elsewhere (a server) or is not described."""
+        return {}
+
     def token_count(self, text: str) -> int:
         """Tokens in `text`, the divisor of mean scoring. Backends with a tokenizer count tokens; this
         default counts whitespace-separated words (an approximation for tokenizer-less endpoints)."""

@@ -135,6 +135,9 @@ class CachedLM(LanguageModel):
     def run_info(self) -> dict[str, str]:
         return self.inner.run_info()
 
+    def runtime(self) -> dict[str, str]:
+        return self.inner.runtime()
+
     def close(self) -> None:
         with self._lock:
             self._db.close()
