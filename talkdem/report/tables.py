@@ -41,6 +41,7 @@ __all__ = [
     "hazard_table",
     "markdown_cell",
     "markdown_text",
+    "model_comparison_table",
     "plan_length_table",
     "retention_table",
     "strategy_retention_table",
@@ -245,12 +246,20 @@ def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE",
     if len(strategies) < 2:
         return None
     reference = reference if reference in strategies else strategies[-1]
+    by_model = _by_model(runs)
+    # Averages over models (the Average row, the rows by pattern) take only the models run under every strategy
+    # shown: a strategy averaged over two models beside one measured on a single model would compare the models.
+    complete = [m for m, g in by_model.items() if {r.strategy for r in g} >= set(strategies)]
+    pooled = [r for m in complete for r in by_model[m]]
     rows: list[tuple[str, ...]] = []
     if by == "model":
-        groups = [(m, g, "all", "average") for m, g in _by_model(runs).items()]
-        groups.append(("Average", list(runs), "all", "average"))
+        groups = [(m, g, "all", "average") for m, g in by_model.items()]
+        if len(complete) > 1:
+            groups.append(("Average", pooled, "all", "average"))
     else:
-        groups = [(PATTERN_LABELS[p], list(runs), p, p) for p in PATTERN_CONFIGS]
+        if not complete:
+            return None
+        groups = [(PATTERN_LABELS[p], pooled, p, p) for p in PATTERN_CONFIGS]
     for name, group, task_key, retention_key in groups:
         values: list[float] = []
         marks: list[str] = []
@@ -269,10 +278,19 @@ def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE",
         # even where another strategy retains more.
         rows.append((name, *(cell + mark for cell, mark in zip(_bold_best(values, 1), marks, strict=True))))
     what = "model" if by == "model" else "pattern"
+    left_out = [m for m in by_model if m not in complete]
+    scope = ""
+    if by == "pattern" or len(complete) > 1:
+        scope = f"{'Rows' if by == 'pattern' else 'The Average row'} pool{'s' if by == 'model' else ''} " + (
+            f"{', '.join(complete)}"
+            + (f" (not {', '.join(left_out)}: not run under every strategy)" if left_out else "")
+            + ". "
+        )
     return Table(
         f"strategy_retention_by_{what}",
         f"Clean-conditioned retention under each strategy, by {what}",
-        f"Clean-conditioned retention (%) per strategy; the best in each row is in bold. Two-sided paired t-test of "
+        f"Clean-conditioned retention (%) per strategy; the best in each row is in bold. {scope}"
+        "Two-sided paired t-test of "
         f"each strategy against {reference} on per-task retention: stars where {reference} is significantly higher "
         f"({_STARS.rstrip('.')}), † where the strategy is significantly higher than {reference} (p<0.05).",
         ("Model" if by == "model" else "Pattern", *strategies),
@@ -335,6 +353,83 @@ def strategy_success_test_table(runs: Sequence[ScoredRun], reference: str = "CAR
         "smallest true difference (points) that test would find at p<0.05 with 80% power, at its number of "
         "tasks and observed spread.",
         ("Model", "Strategy", "Reference", "Tasks", "Conditions", "SR", "Reference SR", "Δ", "p", "Detectable"),
+        tuple(rows),
+    )
+
+
+def _per_task(run: ScoredRun, shared: set[tuple[str, str]], pattern: str | None) -> dict[str, float]:
+    """Per-task success rate over the shared (task, condition) pairs of one pattern (`clean` included as a
+    pattern; None: every shared condition)."""
+    outcomes: dict[str, list[bool]] = {}
+    for episode in run.scores.episodes:
+        key = (episode.task_id, str(episode.condition))
+        if key in shared and (pattern is None or episode.condition.pattern == pattern):
+            outcomes.setdefault(episode.task_id, []).append(episode.success)
+    return {task: sum(v) / len(v) for task, v in outcomes.items()}
+
+
+def model_comparison_table(runs: Sequence[ScoredRun]) -> Table | None:
+    """The model-size comparison: for each strategy run with two or more models, each model against the first
+    one given, on the episodes both runs cover, task by task (the same instructions, the same planner)."""
+    order = list(STRATEGY_LABELS.values())
+    by_strategy: dict[str, list[ScoredRun]] = {}
+    for run in runs:
+        by_strategy.setdefault(run.strategy, []).append(run)
+    rows: list[tuple[str, ...]] = []
+    for strategy in sorted(by_strategy, key=lambda s: (order.index(s) if s in order else len(order), s)):
+        group = by_strategy[strategy]
+        if len({r.model for r in group}) < 2:
+            continue
+        base = group[0]
+        covered = {(e.task_id, str(e.condition)) for e in base.scores.episodes}
+        for run in group[1:]:
+            if run.model == base.model:
+                continue
+            shared = covered & {(e.task_id, str(e.condition)) for e in run.scores.episodes}
+            if not shared:
+                continue
+            mine, theirs = _per_task(run, shared, None), _per_task(base, shared, None)
+            overall = _versus(mine, theirs)
+            cells = []
+            for pattern in ("clean", *PATTERN_CONFIGS):
+                test = _versus(_per_task(run, shared, pattern), _per_task(base, shared, pattern))
+                cells.append(_signed_pp(test.mean_difference, test.p_value) if test.n else "–")
+            rows.append(
+                (
+                    strategy,
+                    run.model,
+                    base.model,
+                    str(overall.n),
+                    _pct(sum(mine.values()) / len(mine)),
+                    _pct(sum(theirs.values()) / len(theirs)),
+                    _signed_pp(overall.mean_difference, overall.p_value),
+                    *cells,
+                    _detectable([overall]),
+                )
+            )
+    if not rows:
+        return None
+    return Table(
+        "model_comparison",
+        "Task success rate of each model against another under the same strategy",
+        "For each strategy run with more than one model: success rate (%) of the model and of the one it is "
+        "compared with (the first given) on the episodes both runs cover, and the difference in percentage points "
+        "(model minus the other) over all of them and per condition group (clean; each pattern, levels "
+        f"averaged), per-task success rates compared with a two-sided paired t-test over tasks: {_STARS} "
+        f"{_LEGEND} Detectable: the smallest true overall difference (points) that test would find at p<0.05 "
+        "with 80% power.",
+        (
+            "Strategy",
+            "Model",
+            "Against",
+            "Tasks",
+            "SR",
+            "Against SR",
+            "Δ",
+            "Clean Δ",
+            *(f"{PATTERN_CODES[p]} Δ" for p in PATTERN_CONFIGS),
+            "Detectable",
+        ),
         tuple(rows),
     )
 
@@ -421,6 +516,9 @@ def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE", *, p
     tested = strategy_success_test_table(planner_runs, reference_strategy) if planner_runs else None
     if tested is not None:
         tables.append(tested)
+    sizes = model_comparison_table(planner_runs)
+    if sizes is not None:
+        tables.append(sizes)
     tables += [hazard_table(runs), error_table(runs), plan_length_table(runs)]
     # Shown only when a run asked questions (imported here: that module builds on this one's Table).
     from talkdem.report.clarification import clarification_table

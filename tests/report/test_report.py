@@ -65,6 +65,27 @@ def test_tables_have_the_paper_layouts(run_dirs: list[Path]) -> None:
     assert tables["hazards"].rows[-2][0] == "Distinct cases"
 
 
+def test_a_second_model_is_compared_under_the_same_strategy_and_never_pooled_unevenly(
+    run_dirs: list[Path], tmp_path: Path
+) -> None:
+    bigger = write_run(tmp_path / "bigger", plans(True), model="bigger-model", strategy="vanilla")
+    runs = score_runs([*run_dirs, bigger], bootstrap=0)
+    tables = {t.name: t for t in all_tables(runs, paper=False)}
+    # bigger-model solves everything; tiny-model under Vanilla fails level 3 of every pattern on 3 of 4 tasks:
+    # per task 16/16 (BOOK) or 11/16 -> 76.6%; RI per task over its levels: 0 or 1/3 of the way -> +25.0 points.
+    (row,) = tables["model_comparison"].rows
+    assert row[:7] == ("Vanilla", "bigger-model", "tiny-model", "4", "100.0", "76.6", "+23.4")
+    assert row[7] == "+0.0" and row[8] == "+25.0"  # clean: no difference; RI: 4 tasks, no star
+    # Only tiny-model ran both strategies: no Average row, and the rows by pattern are tiny-model's alone (pooling
+    # bigger-model's Vanilla would raise Vanilla's RI retention from 75.0 to 87.5 beside a one-model CARE).
+    by_model = tables["strategy_retention_by_model"]
+    assert [r[0] for r in by_model.rows] == ["tiny-model", "bigger-model"]
+    assert by_model.rows[1][1:] == ("100.0", "–")
+    by_pattern = tables["strategy_retention_by_pattern"]
+    assert by_pattern.rows[0][1:] == ("75.0", "**100.0**")
+    assert "pool tiny-model (not bigger-model: not run under every strategy)" in by_pattern.caption
+
+
 def test_oracle_and_external_plans_are_scored_but_not_compared_as_strategies(
     run_dirs: list[Path], tmp_path: Path
 ) -> None:
