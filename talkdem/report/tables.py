@@ -298,11 +298,13 @@ def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE",
     )
 
 
-def _task_success(run: ScoredRun, shared: set[tuple[str, str]]) -> dict[str, float]:
-    """Per-task success rate over the (task, condition) pairs in `shared`."""
+def _task_success(run: ScoredRun, shared: set[tuple[str, str]], pattern: str | None = None) -> dict[str, float]:
+    """Per-task success rate over the (task, condition) pairs in `shared`; with `pattern`, over that
+    pattern's pairs only (`clean` counts as one)."""
     outcomes: dict[str, list[bool]] = {}
     for episode in run.scores.episodes:
-        if (episode.task_id, str(episode.condition)) in shared:
+        key = (episode.task_id, str(episode.condition))
+        if key in shared and (pattern is None or episode.condition.pattern == pattern):
             outcomes.setdefault(episode.task_id, []).append(episode.success)
     return {task: sum(v) / len(v) for task, v in outcomes.items()}
 
@@ -357,17 +359,6 @@ def strategy_success_test_table(runs: Sequence[ScoredRun], reference: str = "CAR
     )
 
 
-def _per_task(run: ScoredRun, shared: set[tuple[str, str]], pattern: str | None) -> dict[str, float]:
-    """Per-task success rate over the shared (task, condition) pairs of one pattern (`clean` included as a
-    pattern; None: every shared condition)."""
-    outcomes: dict[str, list[bool]] = {}
-    for episode in run.scores.episodes:
-        key = (episode.task_id, str(episode.condition))
-        if key in shared and (pattern is None or episode.condition.pattern == pattern):
-            outcomes.setdefault(episode.task_id, []).append(episode.success)
-    return {task: sum(v) / len(v) for task, v in outcomes.items()}
-
-
 def model_comparison_table(runs: Sequence[ScoredRun]) -> Table | None:
     """The model-size comparison: for each strategy run with two or more models, each model against the first
     one given, on the episodes both runs cover, task by task (the same instructions, the same planner)."""
@@ -388,11 +379,11 @@ def model_comparison_table(runs: Sequence[ScoredRun]) -> Table | None:
             shared = covered & {(e.task_id, str(e.condition)) for e in run.scores.episodes}
             if not shared:
                 continue
-            mine, theirs = _per_task(run, shared, None), _per_task(base, shared, None)
+            mine, theirs = _task_success(run, shared), _task_success(base, shared)
             overall = _versus(mine, theirs)
             cells = []
             for pattern in ("clean", *PATTERN_CONFIGS):
-                test = _versus(_per_task(run, shared, pattern), _per_task(base, shared, pattern))
+                test = _versus(_task_success(run, shared, pattern), _task_success(base, shared, pattern))
                 cells.append(_signed_pp(test.mean_difference, test.p_value) if test.n else "–")
             rows.append(
                 (
