@@ -58,10 +58,16 @@ def model_dtype(model_name: str, config: dict[str, Any], revision: str = "") -> 
     return str(configured) if configured else "unknown"
 
 
+_ADDED_SINCE_IDS = ("runtimes",)
+"""Header fields added after run ids were first published: left out of the id while empty, so that a run read by
+a newer version keeps its id (and its results file name)."""
+
+
 def run_id(run: ScoredRun) -> str:
     """12 hex digits identifying a run by its header and its executed plans: runs differing only in name
     punctuation get different ids; re-publishing the same run gives the same id (and file)."""
-    digest = hashlib.sha256(json.dumps(run.header.to_json(), sort_keys=True, default=str).encode())
+    header = {k: v for k, v in run.header.to_json().items() if not (k in _ADDED_SINCE_IDS and not v)}
+    digest = hashlib.sha256(json.dumps(header, sort_keys=True, default=str).encode())
     for episode in sorted(run.scores.episodes, key=lambda e: (e.task_id, e.condition)):
         digest.update(f"\n{episode.task_id}|{episode.condition}|{int(episode.success)}|".encode())
         digest.update("\x1f".join(episode.plan).encode())

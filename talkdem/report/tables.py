@@ -394,6 +394,7 @@ def model_comparison_table(runs: Sequence[ScoredRun]) -> Table | None:
                     _pct(sum(mine.values()) / len(mine)),
                     _pct(sum(theirs.values()) / len(theirs)),
                     _signed_pp(overall.mean_difference, overall.p_value),
+                    "–" if math.isnan(overall.p_value) else f"{overall.p_value:.3f}",
                     *cells,
                     _detectable([overall]),
                 )
@@ -417,6 +418,7 @@ def model_comparison_table(runs: Sequence[ScoredRun]) -> Table | None:
             "SR",
             "Against SR",
             "Δ",
+            "p",
             "Clean Δ",
             *(f"{PATTERN_CODES[p]} Δ" for p in PATTERN_CONFIGS),
             "Detectable",

@@ -118,3 +118,18 @@ def test_run_ids_tell_apart_runs_with_the_same_label(board_runs: dict[str, Path]
     assert (
         results_record(a)["run_id"] == results_record(score_runs([board_runs["planner A"]], bootstrap=0)[0])["run_id"]
     )
+
+
+def test_the_committed_runs_keep_their_published_ids() -> None:
+    # A run's id names its results file on the Hub: a newer version reading the same run (a header written before
+    # a field existed) must give the id that was published, or the same run would be listed twice.
+    from talkdem.leaderboard.records import run_id
+    from talkdem.paths import repo_root
+
+    paper = repo_root() / "results" / "paper"
+    published = {p.stem.rsplit("_", 1)[-1] for p in (paper / "leaderboard" / "results").rglob("results_*.json")}
+    runs = sorted(p for p in paper.glob("qwen2.5-coder-0.5b-*") if (p / "header.json").is_file())
+    assert len(runs) == 6
+    for run in score_runs(runs, bootstrap=0):
+        assert "runtimes" not in json.loads((run.run_dir / "header.json").read_text())
+        assert run_id(run) in published, run.run_dir.name
