@@ -281,11 +281,9 @@ def strategy_retention_table(runs: Sequence[ScoredRun], reference: str = "CARE",
     left_out = [m for m in by_model if m not in complete]
     scope = ""
     if by == "pattern" or len(complete) > 1:
-        scope = f"{'Rows' if by == 'pattern' else 'The Average row'} pool{'s' if by == 'model' else ''} " + (
-            f"{', '.join(complete)}"
-            + (f" (not {', '.join(left_out)}: not run under every strategy)" if left_out else "")
-            + ". "
-        )
+        subject = "Rows pool" if by == "pattern" else "The Average row pools"
+        why_not = f" (not {', '.join(left_out)}: not run under every strategy)" if left_out else ""
+        scope = f"{subject} {', '.join(complete)}{why_not}. "
     return Table(
         f"strategy_retention_by_{what}",
         f"Clean-conditioned retention under each strategy, by {what}",
@@ -309,6 +307,36 @@ def _task_success(run: ScoredRun, shared: set[tuple[str, str]], pattern: str | N
     return {task: sum(v) / len(v) for task, v in outcomes.items()}
 
 
+@dataclass(frozen=True)
+class _Paired:
+    """Two runs compared task by task on the (task, condition) pairs both cover."""
+
+    shared: set[tuple[str, str]]
+    mine: dict[str, float]
+    theirs: dict[str, float]
+    test: TestResult
+
+    def cells(self) -> tuple[str, str, str, str]:
+        """SR, the other run's SR, the difference with stars, and p."""
+        p = self.test.p_value
+        return (
+            _pct(sum(self.mine.values()) / len(self.mine)),
+            _pct(sum(self.theirs.values()) / len(self.theirs)),
+            _signed_pp(self.test.mean_difference, p),
+            "–" if math.isnan(p) else f"{p:.3f}",
+        )
+
+
+def _paired(run: ScoredRun, base: ScoredRun) -> _Paired | None:
+    """`run` against `base` over the episodes both cover (None when they share none)."""
+    covered = {(e.task_id, str(e.condition)) for e in base.scores.episodes}
+    shared = covered & {(e.task_id, str(e.condition)) for e in run.scores.episodes}
+    if not shared:
+        return None
+    mine, theirs = _task_success(run, shared), _task_success(base, shared)
+    return _Paired(shared, mine, theirs, _versus(mine, theirs))
+
+
 def strategy_success_test_table(runs: Sequence[ScoredRun], reference: str = "CARE") -> Table | None:
     """Each strategy's success rate against the reference strategy's, per model, on the episodes both runs
     cover: the difference of the per-task success rates (over those conditions) with a paired t-test over
@@ -321,27 +349,20 @@ def strategy_success_test_table(runs: Sequence[ScoredRun], reference: str = "CAR
         if len(group) < 2 or len(references) != 1:
             continue  # one reference run per model, or the comparison would be ambiguous
         (base,) = references
-        covered = {(e.task_id, str(e.condition)) for e in base.scores.episodes}
         for run in group:
-            if run is base:
+            paired = _paired(run, base) if run is not base else None
+            if paired is None:
                 continue
-            shared = covered & {(e.task_id, str(e.condition)) for e in run.scores.episodes}
-            if not shared:
-                continue
-            mine, theirs = _task_success(run, shared), _task_success(base, shared)
-            test = _versus(mine, theirs)
+            conditions = len({condition for _, condition in paired.shared})
             rows.append(
                 (
                     model,
                     run.strategy,
                     chosen,
-                    str(test.n),
-                    str(len({condition for _, condition in shared})),
-                    _pct(sum(mine.values()) / len(mine)),
-                    _pct(sum(theirs.values()) / len(theirs)),
-                    _signed_pp(test.mean_difference, test.p_value),
-                    "–" if math.isnan(test.p_value) else f"{test.p_value:.3f}",
-                    _detectable([test]),
+                    str(paired.test.n),
+                    str(conditions),
+                    *paired.cells(),
+                    _detectable([paired.test]),
                 )
             )
     if not rows:
@@ -372,31 +393,24 @@ def model_comparison_table(runs: Sequence[ScoredRun]) -> Table | None:
         if len({r.model for r in group}) < 2:
             continue
         base = group[0]
-        covered = {(e.task_id, str(e.condition)) for e in base.scores.episodes}
         for run in group[1:]:
-            if run.model == base.model:
+            paired = _paired(run, base) if run.model != base.model else None
+            if paired is None:
                 continue
-            shared = covered & {(e.task_id, str(e.condition)) for e in run.scores.episodes}
-            if not shared:
-                continue
-            mine, theirs = _task_success(run, shared), _task_success(base, shared)
-            overall = _versus(mine, theirs)
             cells = []
             for pattern in ("clean", *PATTERN_CONFIGS):
-                test = _versus(_task_success(run, shared, pattern), _task_success(base, shared, pattern))
+                mine, theirs = (_task_success(r, paired.shared, pattern) for r in (run, base))
+                test = _versus(mine, theirs)
                 cells.append(_signed_pp(test.mean_difference, test.p_value) if test.n else "–")
             rows.append(
                 (
                     strategy,
                     run.model,
                     base.model,
-                    str(overall.n),
-                    _pct(sum(mine.values()) / len(mine)),
-                    _pct(sum(theirs.values()) / len(theirs)),
-                    _signed_pp(overall.mean_difference, overall.p_value),
-                    "–" if math.isnan(overall.p_value) else f"{overall.p_value:.3f}",
+                    str(paired.test.n),
+                    *paired.cells(),
                     *cells,
-                    _detectable([overall]),
+                    _detectable([paired.test]),
                 )
             )
     if not rows:

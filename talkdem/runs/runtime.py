@@ -12,13 +12,12 @@ from __future__ import annotations
 import platform
 from functools import cache
 from pathlib import Path
-from typing import Protocol
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from talkdem.llm.interface.base import LanguageModel
 
 __all__ = ["add_runtime", "cpu_model", "sitting_runtime"]
-
-
-class _DescribesRuntime(Protocol):
-    def runtime(self) -> dict[str, str]: ...
 
 
 @cache
@@ -34,7 +33,7 @@ def cpu_model() -> str:
     return platform.processor()
 
 
-def sitting_runtime(model: _DescribesRuntime) -> dict[str, str]:
+def sitting_runtime(model: LanguageModel) -> dict[str, str]:
     """This process's runtime for `model`: Python, operating system and architecture, CPU model, and what the
     model's backend says computes its numbers (`LanguageModel.runtime`)."""
     return {
