@@ -13,7 +13,12 @@ and `results: {task: {metric: value}}`, values as fractions (it multiplies by 10
                  "talkdem_clarification": {"questions_per_episode", "help_rate", "unneeded_questions",
                                            "retention"}   (only for runs that could ask; then also
                                                            `config.clarify`: oracle or in-pattern)},
-     "intervals": {"clean_sr": [low, high], "average_sr": ..., "<pattern>_sr": ..., "<pattern>_retention": ...}}
+     "intervals": {"clean_sr": [low, high], "average_sr": ..., "<pattern>_sr": ..., "<pattern>_retention": ...},
+     "runtimes": [{"python", "platform", "cpu", "llama_cpp_python", "llama_cpp_system_info", ...}, ...]}
+
+`runtimes` (optional; only for runs whose headers record one) lists where each sitting of the run computed its
+numbers (`talkdem.runs.runtime`): llama.cpp scores move with the CPU features of its build, so two entries of
+the same model and code that differ by a point can be told apart by it.
 
 Rates are fractions rounded to 1e-4; undefined values are null. No field holds a machine path: a model file
 is named by its file name (`model_name`, `model_file`) and its sha256 (`model_sha`).
@@ -159,4 +164,7 @@ def results_record(run: ScoredRun) -> dict[str, Any]:
         "coverage": run.coverage.to_json(),
         "results": results,
         "intervals": _intervals(run),
+        # Left out while empty, as in the run id: records of runs written before runtimes were recorded stay
+        # byte-identical to the ones published.
+        **({"runtimes": [dict(r) for r in header.runtimes]} if header.runtimes else {}),
     }

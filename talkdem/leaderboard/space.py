@@ -130,7 +130,8 @@ def _space_readme(records: Sequence[dict[str, Any]]) -> str:
         f"`results/<model>/results_<date>_<run id>.json`, schema `{RESULTS_SCHEMA}`: the Hub leaderboard "
         "template's fields (`config.model_name`, `config.model_sha`, `config.model_dtype`, "
         "`results: {task: {metric: value}}`, rates as fractions) plus coverage, 95% bootstrap intervals and "
-        "provenance (planner, strategy, prompt version, dataset hash, code revision, date).\n"
+        "provenance (planner, strategy, prompt version, dataset hash, code revision, date, and where recorded "
+        "the runtime of each sitting: CPU and model library build).\n"
     )
 
 
@@ -148,7 +149,8 @@ tags:
 One JSON file per run: `<model>/results_<date>_<run id>.json`, schema `{schema}`. Each file carries the Hub
 leaderboard template's fields (`config.model_name`, `config.model_sha`, `config.model_dtype`,
 `results: {{task: {{metric: value}}}}`, rates as fractions) and TALK-Dem's own: coverage (tasks per condition),
-95% bootstrap intervals, planner, strategy, prompt version, dataset hash, code revision and date.
+95% bootstrap intervals, planner, strategy, prompt version, dataset hash, code revision and date, and, where
+the run recorded it, `runtimes`: the CPU and model library build of each sitting (llama.cpp scores move with them).
 Rebuild the leaderboard page with `talkdem leaderboard --from-results . --out board`.
 """
 

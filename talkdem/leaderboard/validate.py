@@ -167,6 +167,14 @@ def validate_record(record: Any, where: str) -> dict[str, Any]:
             _number(bound, where, field, 0, 1)
         if None not in bounds and bounds[0] > bounds[1]:
             raise _fail(where, field, "low <= high", bounds)
+
+    runtimes = record.get("runtimes", [])
+    if not isinstance(runtimes, list):
+        raise _fail(where, "runtimes", "a list of objects", runtimes)
+    for index, runtime in enumerate(runtimes):
+        _mapping(runtime, where, f"runtimes[{index}]")
+        for name, value in runtime.items():
+            _text(value, where, f"runtimes[{index}].{name}")
     return checked
 
 

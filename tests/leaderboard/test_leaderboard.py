@@ -133,3 +133,29 @@ def test_the_committed_runs_keep_their_published_ids() -> None:
     for run in score_runs(runs, bootstrap=0):
         assert "runtimes" not in json.loads((run.run_dir / "header.json").read_text())
         assert run_id(run) in published, run.run_dir.name
+
+
+def test_a_run_that_recorded_its_runtimes_publishes_them(board_runs: dict[str, Path], tmp_path: Path) -> None:
+    # The same model and code can score differently on another CPU build; the results file says where each
+    # sitting ran, and a run recorded before runtimes existed publishes the same record as before.
+    import shutil
+
+    from talkdem.leaderboard import validate_record
+
+    before = results_record(score_runs([board_runs["smol care"]], bootstrap=0)[0])
+    assert "runtimes" not in before
+    run = tmp_path / "smol-care"
+    shutil.copytree(board_runs["smol care"], run)
+    header = json.loads((run / "header.json").read_text())
+    sittings = [
+        {"python": "3.11.9", "platform": "Linux x86_64", "cpu": "CPU one", "llama_cpp_python": "0.3.36"},
+        {"python": "3.11.9", "platform": "Linux x86_64", "cpu": "CPU two", "llama_cpp_python": "0.3.36"},
+    ]
+    (run / "header.json").write_text(json.dumps({**header, "runtimes": sittings}))
+    record = results_record(score_runs([run], bootstrap=0)[0])
+    assert record["runtimes"] == sittings
+    assert record["run_id"] != before["run_id"]  # a recorded runtime is part of what the run is
+    assert {k: v for k, v in record.items() if k not in ("runtimes", "run_id")} == {
+        k: v for k, v in before.items() if k != "run_id"
+    }
+    validate_record(record, "r.json")

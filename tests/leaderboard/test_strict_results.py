@@ -61,6 +61,8 @@ def test_a_run_id_that_is_a_path_writes_nothing_outside_out(
         (lambda r: r.pop("config"), "config"),
         (lambda r: r["config"].pop("dataset_hash"), "dataset_hash"),
         (lambda r: r["config"].update(model_name=["a"]), "config.model_name"),
+        (lambda r: r.update(runtimes={"cpu": "x"}), "runtimes"),
+        (lambda r: r.update(runtimes=[{"cpu": "<b>x</b>", "threads": 2}]), "runtimes[0].threads"),
     ],
 )
 def test_impossible_fields_are_refused_naming_file_and_field(
