@@ -12,6 +12,7 @@ from talkdem.report.plots import PlotFile
 from talkdem.report.public import public_model
 from talkdem.report.runs import ScoredRun
 from talkdem.report.tables import Table
+from talkdem.runs.runtime import describe_runtimes
 
 __all__ = ["PAGE_STYLE", "render_report_html", "table_html", "viewer_link"]
 
@@ -101,6 +102,7 @@ def _runs_table(runs: Sequence[ScoredRun]) -> str:
             (run.header.created[:10] or "–"),
             (run.header.dataset_hash[:12] or "–"),
             (run.header.code_revision[:12] or "–"),
+            (describe_runtimes(run.header.runtimes) or "–"),
         )
         rows.append("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in cells) + "</tr>")
     head = (
@@ -114,6 +116,7 @@ def _runs_table(runs: Sequence[ScoredRun]) -> str:
         "Date",
         "Dataset",
         "Code",
+        "Runtime",
     )
     return (
         '<div class="scroll"><table id="runs"><thead><tr>'

@@ -11,6 +11,7 @@ from pathlib import Path
 from talkdem.report.public import public_header, unique_stems
 from talkdem.report.runs import ScoredRun
 from talkdem.report.tables import Table, all_tables, markdown_text
+from talkdem.runs.runtime import describe_runtimes
 
 __all__ = ["ReportFiles", "write_report"]
 
@@ -32,9 +33,11 @@ def _runs_markdown(runs: Sequence[ScoredRun]) -> str:
     lines = []
     for run in runs:
         role = " (reference plans, not ranked)" if run.is_reference else ""
+        runtime = describe_runtimes(run.header.runtimes)
         lines.append(
             f"- {markdown_text(run.label)}{role}: run directory `{markdown_text(run.run_dir.name)}`, "
             f"{run.scores.n_episodes} episodes, {run.coverage.describe()}"
+            + (f", computed on {markdown_text(runtime)}" if runtime else "")
         )
     return "\n".join(lines)
 

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from talkdem.llm.interface.base import LanguageModel
 
-__all__ = ["add_runtime", "cpu_model", "sitting_runtime"]
+__all__ = ["add_runtime", "cpu_model", "describe_runtimes", "sitting_runtime"]
 
 
 @cache
@@ -47,3 +47,22 @@ def sitting_runtime(model: LanguageModel) -> dict[str, str]:
 def add_runtime(recorded: tuple[dict[str, str], ...], runtime: dict[str, str]) -> tuple[dict[str, str], ...]:
     """`recorded` with `runtime` added at the end unless it is there already (first sighting order)."""
     return recorded if not runtime or runtime in recorded else (*recorded, dict(runtime))
+
+
+_MACHINE_KEYS = ("python", "platform", "cpu")
+
+
+def describe_runtimes(runtimes: tuple[dict[str, str], ...]) -> str:
+    """The runtimes of a run in a phrase for a report's run list, one clause per sitting's runtime:
+    "AMD EPYC, llama-cpp-python 0.3.36". The build's feature list (`*_system_info`) is left to the scores file;
+    "" when the header records none (a served model, or a run written before runtimes were recorded)."""
+    clauses = []
+    for runtime in runtimes:
+        where = runtime.get("cpu") or runtime.get("platform", "")
+        libraries = [
+            f"{key.replace('_', '-')} {value}"
+            for key, value in runtime.items()
+            if key not in _MACHINE_KEYS and not key.endswith("_system_info") and value
+        ]
+        clauses.append(", ".join(part for part in (where, *libraries) if part))
+    return "; ".join(clause for clause in clauses if clause)

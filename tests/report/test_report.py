@@ -146,3 +146,27 @@ def test_retention_marks_name_the_direction_of_a_significant_difference() -> Non
     assert _marked(TestResult(0.2, 4.0, 0.004, 30)) == "†", "the strategy higher than the reference: a dagger"
     assert _marked(TestResult(0.2, 1.0, 0.3, 30)) == ""
     assert _marked(None) == ""
+
+
+def test_the_run_list_says_where_each_run_computed_its_numbers(run_dirs: list[Path], tmp_path: Path) -> None:
+    import shutil
+
+    from talkdem.runs.runtime import describe_runtimes
+
+    sittings = (
+        {"python": "3.11.9", "platform": "Linux x86_64", "cpu": "CPU one", "llama_cpp_python": "0.3.36",
+         "llama_cpp_system_info": "CPU : AVX2 = 1 |"},
+        {"python": "3.11.9", "platform": "Linux aarch64", "cpu": "", "torch": "2.5.1", "device": "cpu"},
+    )  # fmt: skip
+    assert describe_runtimes(sittings) == "CPU one, llama-cpp-python 0.3.36; Linux aarch64, torch 2.5.1, device cpu"
+    assert describe_runtimes(()) == ""
+    recorded = tmp_path / "care"
+    shutil.copytree(run_dirs[1], recorded)
+    header = json.loads((recorded / "header.json").read_text())
+    (recorded / "header.json").write_text(json.dumps({**header, "runtimes": [sittings[0]]}))
+    out = tmp_path / "report"
+    assert main(["report", str(run_dirs[0]), str(recorded), "--out", str(out), "--no-plots"]) == 0
+    listed = [line for line in (out / "report.md").read_text().splitlines() if line.startswith("- tiny-model")]
+    assert listed[0].endswith("16/16 conditions")  # no runtime recorded: none claimed
+    assert listed[1].endswith(", computed on CPU one, llama-cpp-python 0.3.36")
+    assert "<td>CPU one, llama-cpp-python 0.3.36</td>" in (out / "report.html").read_text()
