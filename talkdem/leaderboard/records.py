@@ -64,14 +64,20 @@ def model_dtype(model_name: str, config: dict[str, Any], revision: str = "") -> 
 
 
 _ADDED_SINCE_IDS = ("runtimes",)
-"""Header fields added after run ids were first published: left out of the id while empty, so that a run read by
-a newer version keeps its id (and its results file name)."""
+"""Header fields added after run ids were first published: left out of the id and the record while empty, so that
+a run read by a newer version keeps its id, its results file name and its record."""
+
+
+def _added_since_ids(header: dict[str, Any]) -> dict[str, Any]:
+    """The header's fields of `_ADDED_SINCE_IDS` that hold something."""
+    return {key: header[key] for key in _ADDED_SINCE_IDS if header.get(key)}
 
 
 def run_id(run: ScoredRun) -> str:
     """12 hex digits identifying a run by its header and its executed plans: runs differing only in name
     punctuation get different ids; re-publishing the same run gives the same id (and file)."""
-    header = {k: v for k, v in run.header.to_json().items() if not (k in _ADDED_SINCE_IDS and not v)}
+    full = run.header.to_json()
+    header = {k: v for k, v in full.items() if k not in _ADDED_SINCE_IDS} | _added_since_ids(full)
     digest = hashlib.sha256(json.dumps(header, sort_keys=True, default=str).encode())
     for episode in sorted(run.scores.episodes, key=lambda e: (e.task_id, e.condition)):
         digest.update(f"\n{episode.task_id}|{episode.condition}|{int(episode.success)}|".encode())
@@ -164,7 +170,5 @@ def results_record(run: ScoredRun) -> dict[str, Any]:
         "coverage": run.coverage.to_json(),
         "results": results,
         "intervals": _intervals(run),
-        # Left out while empty, as in the run id: records of runs written before runtimes were recorded stay
-        # byte-identical to the ones published.
-        **({"runtimes": [dict(r) for r in header.runtimes]} if header.runtimes else {}),
+        **_added_since_ids(header.to_json()),
     }
