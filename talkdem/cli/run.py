@@ -128,7 +128,8 @@ def register(subparsers: Any) -> None:
         type=positive_int,
         default=1,
         metavar="N",
-        help="openai backend: N episodes stepping at once (one client and one request per step each)",
+        help="N episodes in flight at once, their model requests answered together each round (llamacpp: "
+        "one multi-sequence context; openai: one client each; see docs/performance.md)",
     )
     parser.add_argument(
         "--timeout",
@@ -286,7 +287,9 @@ def run(args: argparse.Namespace, *, load: ModelLoader | None = None, strategies
 
         open_cache(args.cache).close()  # a bad --cache file fails now, not after the model has loaded
     clients = []
-    for slot in range(args.concurrency):
+    # A served model gets one client per episode in flight; an in-process model is loaded once and keeps
+    # every episode in flight itself (llama.cpp: one sequence each, `sequences`).
+    for slot in range(args.concurrency if args.backend == "openai" else 1):
         url = plan.urls[slot % len(plan.urls)]
         clients.append(load(args.backend, args.model, **plan.options, **({"base_url": url} if url else {})))
     if args.cache is not None:
@@ -312,6 +315,7 @@ def run(args: argparse.Namespace, *, load: ModelLoader | None = None, strategies
         extra_config=plan.extra,
         progress=not args.no_progress,
         clients=clients,
+        concurrency=args.concurrency,
         backend_args=plan.backend_args,
         new_revision_ok=args.continue_on_new_revision,
     )
@@ -360,11 +364,14 @@ def _backend_options(args: argparse.Namespace) -> dict[str, Any]:
     from talkdem.llm.interface.registry import backend_options, backends_with_option, model_args
 
     backend = args.backend
-    if backend != "openai" and (args.base_url or args.concurrency > 1):
-        # These two are about the run (one client per server, episodes at once), not a backend option.
-        raise ValueError("--base-url and --concurrency are for --backend openai")
+    if backend != "openai" and args.base_url:
+        # About the run (one client per server), not a backend option.
+        raise ValueError("--base-url is for --backend openai")
     given = model_args(backend, vars(args).get("model_arg") or [])
     declared = {option.name: option for option in backend_options(backend)}
+    if "sequences" in declared and args.concurrency > 1 and "sequences" not in given:
+        # The backend keeps one sequence per episode in flight (multi-sequence llama.cpp).
+        given["sequences"] = args.concurrency
     for attribute, (flag, name) in _SHORTHANDS.items():
         value = vars(args).get(attribute)
         if value is None:

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
-from talkdem.env.feedback import observation_of
 from talkdem.env.recorder import AGENT_RESUME_KEYS, EpisodeRecorder
+from talkdem.sim.observation import observation_of
 
 if TYPE_CHECKING:
     from talkdem.env.gym_env import TalkDemEnv

@@ -26,9 +26,9 @@ import gymnasium as gym
 from gymnasium import spaces
 
 from talkdem.clarify import CLARIFY_MODES, ClarifyMode, Exchange, SimulatedPerson, is_question, question_texts
-from talkdem.env.feedback import observation_of
 from talkdem.instructions import Instruction, load_instructions
 from talkdem.schema import parse_instruction_id
+from talkdem.sim.observation import observation_of
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorBackend, SimulatorEpisode, load_simulator
 from talkdem.sim.trace import EpisodeTrace
 from talkdem.skills import natural_name, vocabulary

@@ -23,7 +23,7 @@ from inspect_ai.scorer import CORRECT, INCORRECT, Score, Target, accuracy, score
 from inspect_ai.solver import Generate, Solver, TaskState, solver
 from inspect_ai.tool import Tool, tool
 
-from talkdem.env.feedback import observation_of
+from talkdem.sim.observation import observation_of
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorEpisode, execute_plan, load_simulator
 from talkdem.tasks import get_task
 

@@ -2,7 +2,7 @@
 
 At each step the model writes a short thought (greedy, cut at the first sentence end and at
 `thought_tokens` tokens), then an action, which is executed; the simulator's answer in words
-(`talkdem.env.observation_of`, what the Gymnasium environment returns) is appended as the observation, so the
+(`talkdem.sim.observation`, what the Gymnasium environment returns) is appended as the observation, so the
 model reads every failure. The episode ends at `done` or at the step limit.
 
 How an action becomes a skill:
@@ -31,21 +31,23 @@ import hashlib
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, cast
 
 from talkdem.clarify.questions import is_question, question_texts
-from talkdem.llm.interface.base import LanguageModel
-from talkdem.llm.interface.requests import GenerateRequest
+from talkdem.llm.interface.base import BestContinuation, LanguageModel
+from talkdem.llm.interface.requests import ChoiceRequest, GenerateRequest
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration
 from talkdem.planner.saycan import PlanResult, check_clarify
+from talkdem.planner.stepping import ClarificationTurn, EpisodeSteps, drive
 from talkdem.planner.strategies import PlannerInput
 from talkdem.seeds.records import SeedTask
+from talkdem.sim.observation import observation_of
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorBackend, load_simulator
 from talkdem.skills import vocabulary
 
 if TYPE_CHECKING:
-    from talkdem.clarify import Exchange, SimulatedPerson
+    from talkdem.clarify import SimulatedPerson
 
 __all__ = ["REACT_HEADER", "ReActConfig", "ReActPlanner", "react_prompt_version"]
 
@@ -104,7 +106,6 @@ def _demo_thought(skill: str) -> str:
 
 
 def _render_demo(demo: Demonstration) -> str:
-    from talkdem.env.feedback import observation_of
     from talkdem.sim.trace import StepRecord
 
     lines = [f"Task: {demo.instruction}"]
@@ -145,21 +146,21 @@ class ReActPlanner:
         parts.append(query)
         return "".join(parts)
 
-    def _thought(self, context: str) -> str:
+    def _thought(self, context: str) -> EpisodeSteps[str]:
         request = GenerateRequest(context + "Thought:", max_new_tokens=self.config.thought_tokens, stop=_SENTENCE_END)
-        text = " ".join(self.model.generate([request])[0].split())
+        text = " ".join(cast(str, (yield request)).split())
         return text.rstrip(".!?") + "." if text else "(no thought)."
 
-    def _action(self, context: str, questions: Sequence[str] = ()) -> tuple[str, float, str]:
+    def _action(self, context: str, questions: Sequence[str] = ()) -> EpisodeSteps[tuple[str, float, str]]:
         """(the skill string to execute or the question to ask, its score, the raw text written: chat
         endpoints only)."""
         if self.model.supports_loglikelihood:
             candidates = [*self.skills, *questions]
-            found = self.model.best_continuation(context, [" " + s for s in candidates])
+            found = cast(BestContinuation, (yield ChoiceRequest(context, tuple(" " + s for s in candidates))))
             return candidates[found.index], found.score, ""
         from talkdem.sim.parser import canonical_text, parse_skill
 
-        raw = self.model.generate([GenerateRequest(context + " ", max_new_tokens=self.config.action_tokens)])[0]
+        raw = cast(str, (yield GenerateRequest(context + " ", max_new_tokens=self.config.action_tokens)))
         written = " ".join(raw.split())
         if questions and is_question(written):
             return written, 0.0, raw
@@ -169,14 +170,15 @@ class ReActPlanner:
 
     def plan(self, task: SeedTask, planner_input: PlannerInput, person: SimulatedPerson | None = None) -> PlanResult:
         """Plan and execute one episode; `person` answers questions (required in clarification mode)."""
-        from talkdem.env.feedback import observation_of
+        return drive(self.episode(task, planner_input, person), self.model)
 
+    def episode(
+        self, task: SeedTask, planner_input: PlannerInput, person: SimulatedPerson | None = None
+    ) -> EpisodeSteps[PlanResult]:
+        """`plan` as a step machine (`talkdem.planner.stepping`): yields what it needs from the model."""
         if (self.config.clarify != "none") != (person is not None):
             raise ValueError(f"clarify {self.config.clarify!r}: a simulated person is needed exactly in that mode")
-        questions: tuple[str, ...] = ()
-        if person is not None:
-            questions = question_texts()
-        dialogue: list[Exchange] = []
+        turn = ClarificationTurn(person, self.config.clarify_budget)
         start = time.perf_counter()
         prompt = self.prompt_for(planner_input)
         context = prompt
@@ -185,13 +187,11 @@ class ReActPlanner:
         thoughts: list[str] = []
         episode = self.simulator.start(task, max_steps=self.config.max_steps)
         while not episode.over:
-            thought = self._thought(context)
+            thought = yield from self._thought(context)
             context += f"Thought: {thought}\nAction:"
-            offered = questions if len(dialogue) < self.config.clarify_budget else ()
-            skill, score, _raw = self._action(context, offered)
-            if person is not None and offered and is_question(skill):
-                exchange = person.ask(skill, len(plan))
-                dialogue.append(exchange)
+            skill, score, _raw = yield from self._action(context, turn.offered())
+            exchange = turn.ask(skill, len(plan))
+            if exchange is not None:
                 context += f" {exchange.question}\nPerson: {exchange.answer}\n"
                 continue
             record = episode.step(skill)
@@ -206,5 +206,5 @@ class ReActPlanner:
             trace=episode.finish(),
             planning_seconds=time.perf_counter() - start,
             generated=tuple(thoughts),
-            dialogue=tuple(dialogue) if person is not None else None,
+            dialogue=turn.record(),
         )

@@ -30,16 +30,18 @@ import logging
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, cast
 
 from talkdem.clarify.questions import is_question, question_texts
-from talkdem.llm.interface.base import LanguageModel
-from talkdem.llm.interface.requests import GenerateRequest
+from talkdem.llm.interface.base import BestContinuation, LanguageModel
+from talkdem.llm.interface.requests import ChoiceRequest, GenerateRequest, ScoreRequest
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration, append_exchange, append_step, build_prompt, clarify_intro
+from talkdem.planner.stepping import ClarificationTurn, EpisodeSteps, drive
 from talkdem.planner.strategies import PlannerInput
 from talkdem.seeds.records import SeedTask
-from talkdem.sim import DEFAULT_MAX_STEPS, Episode, EpisodeTrace
+from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorBackend, load_simulator
+from talkdem.sim.trace import EpisodeTrace
 from talkdem.skills import vocabulary
 
 if TYPE_CHECKING:
@@ -141,12 +143,13 @@ class SayCanPlanner:
         model: LanguageModel,
         config: SayCanConfig | None = None,
         examples: Sequence[Demonstration] | None = None,
+        simulator: SimulatorBackend | None = None,
     ) -> None:
         self.model = model
         self.config = config or SayCanConfig()
         self.examples = tuple(examples if examples is not None else task_type_examples())
         self.skills = [skill.text for skill in vocabulary()]
-        self._top: list[tuple[tuple[str, float], ...]] = []
+        self.simulator = simulator or load_simulator("symbolic")
         if self.config.mode == "scoring" and not model.supports_loglikelihood:
             raise ValueError(
                 f"{model.identity.key()} gives no prompt log-likelihoods (a chat endpoint): "
@@ -167,19 +170,23 @@ class SayCanPlanner:
             query_label=planner_input.query_label,
         )
 
-    def _scores(self, context: str, candidates: Sequence[str]) -> list[float]:
-        continuations = [" " + c for c in candidates]
-        scores = self.model.score_continuations(context, continuations)
+    def _scores(self, context: str, candidates: Sequence[str]) -> EpisodeSteps[list[float]]:
+        continuations = tuple(" " + c for c in candidates)
+        scores = cast("list[float]", (yield ScoreRequest(context, continuations)))
         if self.config.scoring == "mean":
             lengths = [self.model.token_count(c) for c in continuations]
             scores = [s / max(n, 1) for s, n in zip(scores, lengths, strict=True)]
         return scores
 
-    def _choose(self, context: str, blocked: set[str], questions: Sequence[str] = ()) -> tuple[str, float, str]:
-        """(the chosen skill or question, its score, the text written: generative mode only)."""
+    def _choose(
+        self, context: str, blocked: set[str], questions: Sequence[str], top: list[tuple[tuple[str, float], ...]]
+    ) -> EpisodeSteps[tuple[str, float, str]]:
+        """(the chosen skill or question, its score, the text written: generative mode only); with `log_top`,
+        the step's best candidates are appended to `top`."""
         candidates = [s for s in self.skills if s not in blocked]
         if self.config.mode == "generative":
-            text = self.model.generate([GenerateRequest(context + " ", max_new_tokens=16, stop=(",", "\n"))])[0]
+            request = GenerateRequest(context + " ", max_new_tokens=16, stop=(",", "\n"))
+            text = cast(str, (yield request))
             if questions and is_question(text):
                 return " ".join(text.split()), 1.0, text
             skill, similarity = nearest_skill(text, candidates)
@@ -187,62 +194,60 @@ class SayCanPlanner:
         candidates += questions
         if self.config.scoring == "sum" and not self.config.log_top:
             # Exact: the same skill as full scoring (backends with branch and bound score far fewer tokens).
-            found = self.model.best_continuation(context, [" " + c for c in candidates])
+            found = cast(BestContinuation, (yield ChoiceRequest(context, tuple(" " + c for c in candidates))))
             return candidates[found.index], found.score, ""
-        scores = self._scores(context, candidates)
+        scores = yield from self._scores(context, candidates)
         best = max(range(len(candidates)), key=lambda i: (scores[i], -i))  # ties: the earlier skill
         if self.config.log_top:
             ranked = sorted(range(len(candidates)), key=lambda i: (-scores[i], i))[: self.config.log_top]
-            self._top.append(tuple((candidates[i], scores[i]) for i in ranked))
-            _log.info("step %d: %s", len(self._top), ", ".join(f"{candidates[i]} {scores[i]:.3f}" for i in ranked))
+            top.append(tuple((candidates[i], scores[i]) for i in ranked))
+            _log.info("step %d: %s", len(top), ", ".join(f"{candidates[i]} {scores[i]:.3f}" for i in ranked))
         return candidates[best], scores[best], ""
 
     def plan(self, task: SeedTask, planner_input: PlannerInput, person: SimulatedPerson | None = None) -> PlanResult:
         """Plan and execute one episode; `person` answers questions (required in clarification mode)."""
+        return drive(self.episode(task, planner_input, person), self.model)
+
+    def episode(
+        self, task: SeedTask, planner_input: PlannerInput, person: SimulatedPerson | None = None
+    ) -> EpisodeSteps[PlanResult]:
+        """`plan` as a step machine (`talkdem.planner.stepping`): yields what it needs from the model."""
         if (self.config.clarify != "none") != (person is not None):
             raise ValueError(f"clarify {self.config.clarify!r}: a simulated person is needed exactly in that mode")
         start = time.perf_counter()
         prompt = self.prompt_for(planner_input)
-        context, plan, step_scores, generated = prompt, [], [], []
-        self._top = []
+        context = prompt
+        plan: list[str] = []
+        step_scores: list[float] = []
+        generated: list[str] = []
+        top: list[tuple[tuple[str, float], ...]] = []
         blocked: set[str] = set()
-        dialogue: list[Exchange] = []
-        questions: tuple[str, ...] = ()
-        if person is not None:
-            questions = question_texts()
+        turn = ClarificationTurn(person, self.config.clarify_budget)
         # The episode steps along with the planner: each skill is executed once, as it is chosen.
-        episode = Episode.start(task, max_steps=self.config.max_steps)
-        step = 1
-        while step <= self.config.max_steps:
-            offered = questions if len(dialogue) < self.config.clarify_budget else ()
-            skill, score, text = self._choose(context, blocked, offered)
-            if person is not None and offered and is_question(skill):
-                exchange = person.ask(skill, step - 1)
-                dialogue.append(exchange)
+        episode = self.simulator.start(task, max_steps=self.config.max_steps)
+        while not episode.over:
+            skill, score, text = yield from self._choose(context, blocked, turn.offered(), top)
+            exchange = turn.ask(skill, len(plan))
+            if exchange is not None:
                 context = append_exchange(context, exchange.question, exchange.answer)
                 continue
             plan.append(skill)
             step_scores.append(score)
             generated.append(text)
             outcome = episode.step(skill)
-            if episode.ended:
-                break
             if outcome.ok:
                 blocked.clear()
             elif self.config.mask_failed:
                 blocked.add(skill)
             shown = outcome.message if self.config.failure_message and not outcome.ok else ""
-            step += 1
-            context = append_step(context, skill, step, shown)
-        seconds = time.perf_counter() - start
-        trace = episode.close()
+            context = append_step(context, skill, len(plan) + 1, shown)
         return PlanResult(
             prompt=prompt,
             plan=tuple(plan),
             step_scores=tuple(step_scores),
-            trace=trace,
-            planning_seconds=seconds,
+            trace=episode.finish(),
+            planning_seconds=time.perf_counter() - start,
             generated=tuple(generated) if self.config.mode == "generative" else (),
-            top_candidates=tuple(self._top),
-            dialogue=tuple(dialogue) if person is not None else None,
+            top_candidates=tuple(top),
+            dialogue=turn.record(),
         )

@@ -1,11 +1,12 @@
 """Run the planner over a set of episodes into a run directory, resumably, one or several episodes at a time.
 
-With several model clients (`talkdem run --concurrency N`, a served backend), N episodes step at once, each
-on one client from its first step to its last (so an episode stays on one server), each step's candidates in
-one request. Finished episodes are appended as they finish, in whatever order that is, so a kill loses none
-of them; once every episode of the selection is on disk the file is rewritten (atomically) in the selection's
-order, so a finished run's `episodes.jsonl` is the same whatever the concurrency and the order of completion.
-Buffering and writing in order instead would lose up to N-1 finished episodes on a kill.
+With `talkdem run --concurrency N`, N episodes are in flight at once (`talkdem.runs.scheduler`): each round the
+model gets the pending request of every one of them together (a multi-sequence llama.cpp context runs them in
+shared decodes; N clients of a served model send them at once, an episode staying on one server). Finished
+episodes are appended as they finish, in whatever order that is, so a kill loses none of them; once every
+episode of the selection is on disk the file is rewritten (atomically) in the selection's order, so a finished
+run's `episodes.jsonl` is the same whatever the concurrency and the order of completion. Buffering and writing
+in order instead would lose up to N-1 finished episodes on a kill.
 """
 
 from __future__ import annotations
@@ -13,11 +14,10 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import json
-import queue
 import sys
-from collections.abc import Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -25,9 +25,11 @@ from talkdem.instructions import Instruction
 from talkdem.llm.interface.base import LanguageModel
 from talkdem.planner.react import ReActConfig, ReActPlanner
 from talkdem.planner.saycan import PlanResult, SayCanConfig, SayCanPlanner
+from talkdem.planner.stepping import EpisodeSteps
 from talkdem.planner.strategies import PlannerInput, Strategy
 from talkdem.runs.records import EpisodeRecord
 from talkdem.runs.runtime import sitting_runtime
+from talkdem.runs.scheduler import ClientPool, in_flight
 from talkdem.runs.spec import RESUME_KEYS, RunSpec, Scalar
 from talkdem.runs.store import (
     EPISODES_FILE,
@@ -107,19 +109,22 @@ def run_episodes(
     progress: bool = True,
     clients: Sequence[LanguageModel] = (),
     *,
+    concurrency: int = 1,
     backend_args: dict[str, Scalar] | None = None,
     new_revision_ok: bool = False,
 ) -> RunSummary:
     """Plan and execute every instruction not yet in `run_dir`; each finished episode is on disk at once.
 
-    `clients`: the model clients that step episodes at once (one episode per client at a time; `model` is
-    used for the header and the strategies' rewriting); empty: `model` alone, one episode at a time.
+    `concurrency`: episodes in flight at once (`talkdem.runs.scheduler`); `clients`: several clients of one served
+    model (at least `concurrency` of them is not needed: an episode's requests go to client `slot % clients`;
+    `model` is used for the header and the strategies' rewriting); empty: `model` alone.
     `extra_config`: the selection (conditions, sample size, shard) recorded in the header; `backend_args`:
     how the model was reached. The run's spec (`RunSpec`) writes the header and decides what a resume must
     match; `new_revision_ok` lets a run started on another code revision go on (both are recorded).
     """
     config = config or SayCanConfig()
     clients = list(clients) or [model]
+    concurrency = max(concurrency, len(clients))
     served: dict[str, object] = {k: v for k, v in model.run_info().items() if k != "base_url"}
     if served:
         served["servers"] = sorted({c.run_info().get("base_url", "") for c in clients})
@@ -143,7 +148,9 @@ def run_episodes(
                 for episode in open_run(run_dir, header, spec.resume_keys, new_revision_ok=new_revision_ok)
             }
             try:
-                summary = _run_locked(instructions, done, model, clients, strategy, run_dir, config, progress)
+                summary = _run_locked(
+                    instructions, done, model, clients, strategy, run_dir, config, progress, concurrency
+                )
             except BaseException:
                 if (run_dir / HEADER_FILE).is_file():
                     set_status(run_dir, "incomplete")
@@ -177,13 +184,13 @@ def _run_locked(
     run_dir: Path,
     config: SayCanConfig | ReActConfig,
     progress: bool,
+    concurrency: int,
 ) -> RunSummary:
     from tqdm import tqdm
 
     pending = [i for i in instructions if i.id not in done]
-    planners: queue.SimpleQueue[Planner] = queue.SimpleQueue()
-    for client in clients:
-        planners.put(_planner(client, config))
+    stepping = ClientPool(clients) if len(clients) > 1 else model
+    planner = _planner(stepping, config)
     successes = 0
     bar = tqdm(
         total=len(instructions),
@@ -193,46 +200,42 @@ def _run_locked(
         file=sys.stderr,
         desc=f"{strategy.name}",
     )
+    Job = tuple[Instruction, PlannerInput]
 
-    def plan_one(instruction: Instruction, planner_input: PlannerInput) -> PlanResult:
-        planner = planners.get()  # a free client: the whole episode runs on it
-        try:
-            task = get_task(instruction.task_id)
-            return planner.plan(task, planner_input, person=person_for(config, instruction, task))
-        finally:
-            planners.put(planner)
-
-    chunk = 16 * len(clients)  # strategies batch their generation requests; small chunks keep resume granular
-    with EpisodeWriter(run_dir) as writer, ThreadPoolExecutor(max_workers=len(clients)) as pool:
+    def jobs() -> Iterator[tuple[Job, Callable[[], EpisodeSteps[PlanResult]]]]:
+        # Strategies batch their rewriting per chunk; chunks are read as slots free up, so the episodes of one
+        # chunk are still in flight while the next is prepared. Small chunks keep a serial run's resume granular.
+        chunk = 16 if concurrency == 1 else 8 * concurrency
         for start in range(0, len(pending), chunk):
             batch = pending[start : start + chunk]
-            inputs = strategy.prepare([i.text for i in batch], model)
-            running: dict[Future[PlanResult], tuple[Instruction, PlannerInput]] = {
-                pool.submit(plan_one, instruction, planner_input): (instruction, planner_input)
-                for instruction, planner_input in zip(batch, inputs, strict=True)
-            }
-            try:
-                while running:
-                    finished, _ = wait(running, return_when=FIRST_COMPLETED)
-                    for future in finished:
-                        instruction, planner_input = running.pop(future)
-                        result = future.result()
-                        writer.write(
-                            episode_record(
-                                instruction,
-                                result,
-                                planner_input.instruction,
-                                planner_input.notes,
-                                thoughts=isinstance(config, ReActConfig),
-                            )
-                        )
-                        successes += result.trace.success
-                        bar.update(1)
-                        bar.set_postfix(success=f"{successes}/{bar.n - (len(instructions) - len(pending))}")
-            except BaseException:
-                for future in running:
-                    future.cancel()
-                raise
+            prepared = list(zip(batch, strategy.prepare([i.text for i in batch], model), strict=True))
+            if concurrency > 1:
+                # Episodes whose prompts begin alike run side by side, so a backend that reuses cached prefixes
+                # (the multi-sequence llama.cpp scorer) finds the shared CARE demonstrations in flight.
+                prepared.sort(key=lambda job: planner.prompt_for(job[1]))
+            for instruction, planner_input in prepared:
+                task = get_task(instruction.task_id)
+                person = person_for(config, instruction, task)
+                yield (instruction, planner_input), partial(planner.episode, task, planner_input, person)
+
+    try:
+        with EpisodeWriter(run_dir) as writer:
+            for (instruction, planner_input), result in in_flight(jobs(), stepping, concurrency):
+                writer.write(
+                    episode_record(
+                        instruction,
+                        result,
+                        planner_input.instruction,
+                        planner_input.notes,
+                        thoughts=isinstance(config, ReActConfig),
+                    )
+                )
+                successes += result.trace.success
+                bar.update(1)
+                bar.set_postfix(success=f"{successes}/{bar.n - (len(instructions) - len(pending))}")
+    finally:
+        if isinstance(stepping, ClientPool):
+            stepping.close()
     bar.close()
     _order_when_complete(run_dir, instructions)
     return RunSummary(run_dir, len(instructions), len(instructions) - len(pending), len(pending), successes)

@@ -40,11 +40,12 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import NDArray
 
+from talkdem.llm.backends.llamacpp_sequences import SequenceScorer, log_softmax
 from talkdem.llm.backends.tokenizing import GGUFTokenSplit
 from talkdem.llm.interface.base import LanguageModel, ModelIdentity, cut_at_stop, file_sha256, loglikelihood_by_context
 from talkdem.llm.interface.models import get_model, model_path
 from talkdem.llm.interface.options import BackendOption
-from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.interface.requests import ChoiceRequest, GenerateRequest, LoglikelihoodRequest
 from talkdem.llm.scoring.branch_bound import BestContinuation, best_continuation, common_prefix_length
 
 __all__ = ["LlamaCppLM"]
@@ -72,13 +73,6 @@ def _resolve(model: str) -> tuple[Path, str, str]:
             f"{model}: the llamacpp backend needs a GGUF file or a model name (`talkdem models` lists them)"
         )
     return path, str(path), file_sha256(path)
-
-
-def _log_softmax(logits: NDArray[np.float32]) -> NDArray[np.float64]:
-    values = logits.astype(np.float64)
-    shifted = values - values.max()
-    result: NDArray[np.float64] = shifted - np.log(np.exp(shifted).sum())
-    return result
 
 
 def _log_sum_exp(logits: NDArray[np.float32]) -> float:
@@ -110,6 +104,9 @@ class LlamaCppLM(LanguageModel):
             the from-scratch scorer on a SayCan prompt; float32: equal to 1e-12).
         context_chunk: the context's batch layout (see the module docstring); the run header records it
             (`model.scoring`), since scores differ between layouts.
+        sequences: episodes in flight (`talkdem run --concurrency N` sets it): above 1, the choices of all of
+            them run in shared decodes of one multi-sequence context (`llamacpp_sequences`), with its own layout
+            (`model.scoring` `sequences-32`); the KV cache then holds n_ctx x ceil(sequences / 2) cells.
     """
 
     supports_json_schema = True
@@ -121,6 +118,7 @@ class LlamaCppLM(LanguageModel):
         BackendOption("seed", "int", "the sampler's seed", minimum=0),
         BackendOption("f32_kv_cache", "bool", "float32 keys and values (false: llama.cpp's float16)"),
         BackendOption("context_chunk", "int", "the context runs in chunks at fixed positions of this size", minimum=2),
+        BackendOption("sequences", "int", "episodes scored together in one multi-sequence context", minimum=1),
     )
 
     def __init__(
@@ -133,6 +131,7 @@ class LlamaCppLM(LanguageModel):
         seed: int = 0,
         f32_kv_cache: bool = True,
         context_chunk: int = 16,
+        sequences: int = 1,
     ) -> None:
         if context_chunk < 2 or context_chunk >= n_batch:
             # A last chunk of one token joins the one before, so a chunk can be context_chunk + 1 tokens long.
@@ -164,7 +163,18 @@ class LlamaCppLM(LanguageModel):
         self.context_chunk = context_chunk
         self._canonical = 0
         """Leading cached positions computed in full chunks at their fixed places (reusable as they are)."""
-        self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256, scoring=f"chunk-{context_chunk}")
+        self._sequences: SequenceScorer | None = None
+        if sequences > 1:
+            self._sequences = SequenceScorer(
+                self._llm._model.model,
+                self._llm.n_vocab(),
+                sequences,
+                n_ctx=n_ctx * -(-sequences // 2),
+                threads=threads,
+                f32_kv_cache=f32_kv_cache,
+            )
+        layout = f"sequences-{self._sequences.decode_size}" if self._sequences else f"chunk-{context_chunk}"
+        self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256, scoring=layout)
         self.use_chat_template = chat_template and bool(self._llm.metadata.get("tokenizer.chat_template"))
         self.split = GGUFTokenSplit(self._llm)
         self._next_logprobs: NDArray[np.float64] | None = None
@@ -231,7 +241,7 @@ class LlamaCppLM(LanguageModel):
         keep = max(b for b in chunks[:-1] if b <= reusable)
         llm.n_tokens = keep
         self._next_logprobs = None
-        self._next_logprobs = _log_softmax(self._eval_last_row(ids, [b for b in chunks if b >= keep]))
+        self._next_logprobs = log_softmax(self._eval_last_row(ids, [b for b in chunks if b >= keep]))
         # Full chunks stay reusable; the last one is run again next time (the context will have grown).
         self._canonical = chunks[-2] if len(chunks) > 1 else 0
         return self._next_logprobs
@@ -319,7 +329,7 @@ class LlamaCppLM(LanguageModel):
 
         def evaluate(path: Sequence[int], keep: int) -> list[NDArray[np.float64]]:
             self._eval_tail(context, path, keep)
-            return [_log_softmax(llm.scores[prefix + j]) for j in range(keep, len(path))]
+            return [log_softmax(llm.scores[prefix + j]) for j in range(keep, len(path))]
 
         try:
             return best_continuation(first, continuations, evaluate)
@@ -329,6 +339,26 @@ class LlamaCppLM(LanguageModel):
     def best_continuation(self, context: str, continuations: Sequence[str]) -> BestContinuation:
         """Fast path for SayCan's sum scoring: only the winner, exactly, scoring a fraction of the tokens."""
         return self.best_token_continuation(self.context_ids(context), [self.encode(c) for c in continuations])
+
+    def best_continuations(self, requests: Sequence[ChoiceRequest]) -> list[BestContinuation]:
+        """Every in-flight episode's choice; with `sequences` > 1 all of them in shared decodes (the same
+        choices as one at a time, to llama.cpp's batch-layout noise: see `llamacpp_sequences`)."""
+        if self._sequences is None:
+            return super().best_continuations(requests)
+        contexts = [self.context_ids(r.context) for r in requests]
+        options = [[self.encode(c) for c in r.continuations] for r in requests]
+        for context, continuations in zip(contexts, options, strict=True):
+            self._check_fits(len(context), continuations)
+        return self._sequences.best([r.session for r in requests], contexts, options)
+
+    def end_session(self, session: int) -> None:
+        if self._sequences is not None:
+            self._sequences.free(session)
+
+    @property
+    def tokens_evaluated_all(self) -> int:
+        """Tokens run through the model by the serial and the multi-sequence scorer together."""
+        return self.tokens_evaluated + (self._sequences.tokens_evaluated if self._sequences else 0)
 
     def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
         """Fast path: the context once (over the previous call's shared prefix), then each candidate's tail."""
@@ -345,7 +375,7 @@ class LlamaCppLM(LanguageModel):
             llm.reset()
             self._eval(context_ids + continuation)
             scores.append(
-                sum(float(_log_softmax(llm.scores[prefix - 1 + j])[token]) for j, token in enumerate(continuation))
+                sum(float(log_softmax(llm.scores[prefix - 1 + j])[token]) for j, token in enumerate(continuation))
             )
         llm.reset()
         self._next_logprobs = None

@@ -10,12 +10,19 @@ from pathlib import Path
 from typing import ClassVar
 
 from talkdem.llm.interface.options import BackendOption
-from talkdem.llm.interface.requests import GenerateRequest, LoglikelihoodRequest
+from talkdem.llm.interface.requests import (
+    ChoiceRequest,
+    GenerateRequest,
+    LoglikelihoodRequest,
+    ModelRequest,
+    ScoreRequest,
+)
 
 __all__ = [
     "BestContinuation",
     "LanguageModel",
     "ModelIdentity",
+    "answer_requests",
     "cut_at_stop",
     "file_sha256",
     "loglikelihood_by_context",
@@ -95,6 +102,21 @@ class LanguageModel(ABC):
         best = max(range(len(scores)), key=lambda i: (scores[i], -i))
         return BestContinuation(best, scores[best])
 
+    def best_continuations(self, requests: Sequence[ChoiceRequest]) -> list[BestContinuation]:
+        """The answers to the choice requests of every episode in flight (one per request, in order).
+
+        This default answers them one at a time; a backend that can run many episodes' work in one batch
+        (the multi-sequence llama.cpp scorer) overrides it and must give the same choices up to its numbers'
+        documented noise."""
+        return [self.best_continuation(r.context, r.continuations) for r in requests]
+
+    def score_requests(self, requests: Sequence[ScoreRequest]) -> list[list[float]]:
+        """Every continuation's score for each request of every episode in flight (default: one at a time)."""
+        return [self.score_continuations(r.context, r.continuations) for r in requests]
+
+    def end_session(self, session: int) -> None:  # noqa: B027 (a hook: most backends keep no such state)
+        """The episode in flight as `session` has ended: a backend that keeps per-episode state may free it."""
+
     def run_info(self) -> dict[str, str]:
         """What a run header records about where the model runs beyond its identity (a server's URL, the
         served model name, the tokenizer); empty for in-process backends."""
@@ -144,3 +166,22 @@ def file_sha256(path: Path, chunk: int = 1 << 20) -> str:
         while block := handle.read(chunk):
             digest.update(block)
     return digest.hexdigest()
+
+
+def answer_requests(model: LanguageModel, requests: Sequence[ModelRequest]) -> list[object]:
+    """Answers to a mixed list of requests, in order, asking `model` once per kind (lm-evaluation-harness's
+    shape: the backend sees every pending request of a kind together)."""
+    answers: list[object] = [None] * len(requests)
+    choices = [(i, r) for i, r in enumerate(requests) if isinstance(r, ChoiceRequest)]
+    generations = [(i, r) for i, r in enumerate(requests) if isinstance(r, GenerateRequest)]
+    if choices:
+        for (i, _), found in zip(choices, model.best_continuations([r for _, r in choices]), strict=True):
+            answers[i] = found
+    if generations:
+        for (i, _), text in zip(generations, model.generate([r for _, r in generations]), strict=True):
+            answers[i] = text
+    scores = [(i, r) for i, r in enumerate(requests) if isinstance(r, ScoreRequest)]
+    if scores:
+        for (i, _), values in zip(scores, model.score_requests([r for _, r in scores]), strict=True):
+            answers[i] = values
+    return answers

@@ -6,7 +6,7 @@ import json
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["GenerateRequest", "LoglikelihoodRequest"]
+__all__ = ["ChoiceRequest", "GenerateRequest", "LoglikelihoodRequest", "ModelRequest", "ScoreRequest"]
 
 
 @dataclass(frozen=True)
@@ -19,6 +19,31 @@ class LoglikelihoodRequest:
 
     context: str
     continuation: str
+
+
+@dataclass(frozen=True)
+class ChoiceRequest:
+    """The continuation with the highest summed log-probability after `context` (one SayCan or ReAct step
+    under sum scoring); answered with a `BestContinuation`. Ties go to the earlier continuation.
+
+    `session` names the episode in flight that asks (the scheduler's slot): a backend that keeps state per
+    episode (the multi-sequence llama.cpp scorer keeps each episode's context in its own sequence) uses it; it
+    is not part of the request's value (equality, hashing, caching), since it changes no answer.
+    """
+
+    context: str
+    continuations: tuple[str, ...]
+    session: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class ScoreRequest:
+    """Every continuation's summed log-probability after `context` (mean scoring, `--log-top`); answered
+    with a list of floats in the continuations' order. `session` as in `ChoiceRequest`."""
+
+    context: str
+    continuations: tuple[str, ...]
+    session: int = field(default=0, compare=False)
 
 
 @dataclass(frozen=True)
@@ -71,3 +96,7 @@ class GenerateRequest:
             return None
         parsed: dict[str, Any] = json.loads(self.json_schema)
         return parsed
+
+
+ModelRequest = ChoiceRequest | ScoreRequest | GenerateRequest
+"""What a planner's episode asks of the model at one step (`talkdem.planner.stepping`)."""

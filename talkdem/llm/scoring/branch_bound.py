@@ -16,7 +16,7 @@ what one does, since reading the weights dominates.
 from __future__ import annotations
 
 import heapq
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Generator, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from talkdem.llm.interface.base import BestContinuation
 from talkdem.llm.scoring.token_trie import TokenTrie
 
-__all__ = ["BestContinuation", "Evaluate", "best_continuation", "common_prefix_length"]
+__all__ = ["BestContinuation", "Evaluate", "Expansion", "best_continuation", "common_prefix_length", "search"]
 
 Evaluate = Callable[[Sequence[int], int], Sequence[NDArray[np.float64]]]
 """`evaluate(path, keep)`: hold context + `path`, running only `path[keep:]` (the first `keep` tokens are still
@@ -44,6 +44,10 @@ def common_prefix_length(a: Sequence[int], b: Sequence[int]) -> int:
 _COMPLETE, _EXPAND = 0, 1  # at equal bounds a finished candidate pops first
 
 
+Expansion = tuple[list[int], int]
+"""What `search` asks for: (path, keep), the arguments of one `Evaluate` call."""
+
+
 def best_continuation(
     first: NDArray[np.float64], continuations: Sequence[Sequence[int]], evaluate: Evaluate
 ) -> BestContinuation:
@@ -54,6 +58,22 @@ def best_continuation(
         continuations: token ids, each non-empty.
         evaluate: runs trie paths after the context (see `Evaluate`).
     """
+    steps = search(first, continuations)
+    try:
+        wanted = next(steps)
+        while True:
+            wanted = steps.send(evaluate(*wanted))
+    except StopIteration as finished:
+        result: BestContinuation = finished.value
+        return result
+
+
+def search(
+    first: NDArray[np.float64], continuations: Sequence[Sequence[int]]
+) -> Generator[Expansion, Sequence[NDArray[np.float64]], BestContinuation]:
+    """`best_continuation` as a step machine: it yields each expansion (path, keep) it needs and takes the
+    rows `Evaluate` would return, so that a backend can run the expansions of many searches in one batch
+    (the multi-sequence llama.cpp scorer). The search is the same, expansion for expansion."""
     if not continuations:
         raise ValueError("no continuations to choose from")
     if any(len(c) == 0 for c in continuations):
@@ -86,7 +106,7 @@ def best_continuation(
         path = trie.path(chain[-1])
         start = trie.depths[item]
         keep = min(common_prefix_length(held, path), start)
-        rows = evaluate(path, keep)
+        rows = yield path, keep
         held = path
         tokens_evaluated += len(path) - keep
         expansions += len(chain)
