@@ -57,12 +57,15 @@ def in_flight(
     """Run every job's episode, `concurrency` at a time; yield (key, result) as each finishes.
 
     `jobs` is read lazily (a job is started when a slot is free), so the caller can prepare inputs chunk by
-    chunk (a strategy's rewriting) while earlier episodes are still in flight.
+    chunk (a strategy's rewriting) while earlier episodes are still in flight. With a backend that streams
+    choices (`LanguageModel.streams_choices`), a choice is handed over as soon as its episode asks and answered
+    whenever the backend finishes it; every other request is answered in rounds, all pending ones together.
     """
     if concurrency < 1:
         raise ValueError(f"concurrency must be at least 1, got {concurrency}")
     queue = iter(jobs)
     slots: dict[int, _Slot[Key, Result]] = {}
+    submitted: set[int] = set()
     exhausted = False
     while True:
         finished: list[tuple[Key, Result]] = []
@@ -83,9 +86,22 @@ def in_flight(
         yield from finished
         if not slots:
             return
-        order = sorted(slots)
-        answers = answer_requests(model, [_stamped(slots[s].request, s) for s in order])
-        for session, answer in zip(order, answers, strict=True):
+        waiting = [s for s in sorted(slots) if s not in submitted]
+        if model.streams_choices:
+            for session in waiting:
+                request = slots[session].request
+                if isinstance(request, ChoiceRequest):
+                    model.submit_choice(dataclasses.replace(request, session=session))
+                    submitted.add(session)
+            waiting = [s for s in waiting if s not in submitted]
+        replies: list[tuple[int, object]]
+        if waiting:  # a round of everything not streamed
+            answers = answer_requests(model, [_stamped(slots[s].request, s) for s in waiting])
+            replies = list(zip(waiting, answers, strict=True))
+        else:
+            replies = list(model.advance_choices())
+            submitted.difference_update(session for session, _ in replies)
+        for session, answer in replies:
             slot = slots[session]
             try:
                 slot.request = slot.steps.send(answer)

@@ -35,7 +35,7 @@ def _fails(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
         (["run", "--conditions", ","], "no condition in ','"),
         (["run", "--conditions", "intrusion:7"], "the level must be 1, 2 or 3"),
         (["demo", "--tasks", "0"], "--tasks: must be at least 1"),
-        (["run", "--backend", "hf", "--base-url", "http://127.0.0.1:9/v1"], "are for --backend openai"),
+        (["run", "--backend", "hf", "--base-url", "http://127.0.0.1:9/v1"], "--base-url is for --backend openai"),
         (["run", "--backend", "openai", "--model", "m", "--threads", "2"], "--threads applies to the hf and llamacpp"),
         (["build", "--limit", "-1"], "--limit: must be at least 1"),
         (["push", "--repo", "not a repo", "--dry-run"], "is not a Hub repository id"),

@@ -78,7 +78,8 @@ def test_a_local_model_is_its_own_served_tokenizer_and_react_plain_text() -> Non
         (["--backend", "llamacpp", "--bos", "never"], "--bos applies to the openai backend, not llamacpp"),
         (["--backend", "vllm", "--timeout", "5"], "--timeout applies to the openai backend, not vllm"),
         (["--backend", "vllm", "--threads", "5"], "--threads applies to the hf and llamacpp backends, not vllm"),
-        (["--backend", "hf", "--concurrency", "2"], "--base-url and --concurrency are for --backend openai"),
+        (["--backend", "hf", "--base-url", "http://127.0.0.1:9/v1"], "--base-url is for --backend openai"),
+        (["--backend", "llamacpp", "--model-arg", "sequences=0"], "'sequences' takes a whole number of at least 1"),
         (["--backend", "openai", "--model", "m"], "scoring through a server needs the served model's tokenizer"),
     ],
 )

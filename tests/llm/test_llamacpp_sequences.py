@@ -9,6 +9,8 @@ than it, never digits.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from talkdem.llm.backends.llamacpp import LlamaCppLM
@@ -85,3 +87,23 @@ def test_memory_stays_bounded_over_a_hundred_episodes() -> None:
     assert scorer.tokens_evaluated > 1024  # more than the cache holds ran through it
     with pytest.raises(ValueError, match="session 4 outside the 4 sequences"):
         model.best_continuations([ChoiceRequest(prompt, options, session=4)])
+
+
+@pytest.mark.slow
+def test_a_batched_run_records_its_layout_and_resumes(tmp_path: Path) -> None:
+    """`talkdem run --concurrency 3` on llama.cpp: the header says the multi-sequence layout and the episodes in
+    flight; the same command run again finds every episode done; a finished run's records are in selection order."""
+    from talkdem.cli import main
+    from talkdem.runs import read_episodes, read_header
+
+    out = tmp_path / "run"
+    command = ["run", "--backend", "llamacpp", "--model", "smollm2", "--threads", "1", "--limit", "2"]
+    command += ["--conditions", "clean,intrusion:3", "--max-steps", "3", "--no-progress", "--out", str(out)]
+    assert main([*command, "--concurrency", "3"]) == 0
+    header = read_header(out)
+    assert header.model["scoring"] == "sequences-32"
+    assert header.config["concurrency"] == 3 and header.config["sequences"] == 3
+    first = [e.episode_id for e in read_episodes(out)]
+    assert len(first) == 4 and len(set(first)) == 4
+    assert main([*command, "--concurrency", "3"]) == 0
+    assert [e.episode_id for e in read_episodes(out)] == first

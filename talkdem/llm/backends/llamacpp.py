@@ -173,6 +173,7 @@ class LlamaCppLM(LanguageModel):
                 threads=threads,
                 f32_kv_cache=f32_kv_cache,
             )
+        self.streams_choices = self._sequences is not None
         layout = f"sequences-{self._sequences.decode_size}" if self._sequences else f"chunk-{context_chunk}"
         self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256, scoring=layout)
         self.use_chat_template = chat_template and bool(self._llm.metadata.get("tokenizer.chat_template"))
@@ -351,14 +352,22 @@ class LlamaCppLM(LanguageModel):
             self._check_fits(len(context), continuations)
         return self._sequences.best([r.session for r in requests], contexts, options)
 
+    def submit_choice(self, request: ChoiceRequest) -> None:
+        if self._sequences is None:
+            super().submit_choice(request)
+            return
+        context, continuations = self.context_ids(request.context), [self.encode(c) for c in request.continuations]
+        self._check_fits(len(context), continuations)
+        self._sequences.submit(request.session, context, continuations)
+
+    def advance_choices(self) -> list[tuple[int, BestContinuation]]:
+        if self._sequences is None:
+            return super().advance_choices()
+        return self._sequences.step()
+
     def end_session(self, session: int) -> None:
         if self._sequences is not None:
             self._sequences.free(session)
-
-    @property
-    def tokens_evaluated_all(self) -> int:
-        """Tokens run through the model by the serial and the multi-sequence scorer together."""
-        return self.tokens_evaluated + (self._sequences.tokens_evaluated if self._sequences else 0)
 
     def score_continuations(self, context: str, continuations: Sequence[str]) -> list[float]:
         """Fast path: the context once (over the previous call's shared prefix), then each candidate's tail."""

@@ -59,10 +59,14 @@ class _Token:
 
 
 @dataclass
-class _Search:
+class _Choice:
+    """One open choice: its context is computed (started: the sequence holds a prefix of it), then its search runs."""
+
     session: int
     context: list[int]
-    steps: Generator[Expansion, Sequence[NDArray[np.float64]], BestContinuation]
+    continuations: Sequence[Sequence[int]]
+    started: bool = False
+    steps: Generator[Expansion, Sequence[NDArray[np.float64]], BestContinuation] | None = None
     wanted: Expansion | None = None
     result: BestContinuation | None = None
 
@@ -119,6 +123,7 @@ class SequenceScorer:
         self.tokens_copied = 0
         """Context tokens a sequence took from another instead of running them (prefix sharing)."""
         self.decodes = 0
+        self._open: dict[int, _Choice] = {}
 
     def close(self) -> None:
         if self._ctx:
@@ -132,6 +137,8 @@ class SequenceScorer:
     # -- sequences ---------------------------------------------------------------------------------------
     def free(self, session: int) -> None:
         """Empty the sequence of an episode that ended."""
+        if session in self._open:
+            raise ValueError(f"session {session} still has a choice in flight")
         self._lib.llama_memory_seq_rm(self._memory, session, -1, -1)
         self.held[session] = []
 
@@ -149,116 +156,155 @@ class SequenceScorer:
 
     # -- decoding ----------------------------------------------------------------------------------------
     def _run(self, tokens: Sequence[_Token]) -> list[NDArray[np.float64]]:
-        """Run `tokens` (each continuing what its sequence holds) in decodes of at most `decode_size`; return the
+        """Run `tokens` (each continuing what its sequence holds; at most `decode_size`) in one decode; return the
         log-probability rows of the tokens marked `read`, in order."""
         lib, batch, rows = self._lib, self._batch, []
-        for start in range(0, len(tokens), self.decode_size):
-            part = tokens[start : start + self.decode_size]
-            for i, item in enumerate(part):
-                batch.token[i] = item.token
-                batch.pos[i] = item.position
-                batch.n_seq_id[i] = 1
-                batch.seq_id[i][0] = item.sequence
-                batch.logits[i] = item.read
-            batch.n_tokens = len(part)
-            status = lib.llama_decode(self._ctx, batch)
-            if status == 1:
-                raise RuntimeError(
-                    f"llama.cpp's KV cache ({self.n_ctx} cells for {self.sequences} sequences) is full: "
-                    "give the model a larger n_ctx (--model-arg n_ctx=...) or fewer episodes in flight"
-                )
-            if status != 0:
-                raise RuntimeError(f"llama_decode failed with status {status}")
-            self.decodes += 1
-            self.tokens_evaluated += len(part)
-            for i, item in enumerate(part):
-                if item.read:
-                    logits = np.ctypeslib.as_array(lib.llama_get_logits_ith(self._ctx, i), shape=(self.n_vocab,))
-                    rows.append(log_softmax(logits))
-                self.held[item.sequence].append(item.token)
+        if not 0 < len(tokens) <= self.decode_size:
+            raise ValueError(f"a decode holds 1 to {self.decode_size} tokens, got {len(tokens)}")
+        for i, item in enumerate(tokens):
+            batch.token[i] = item.token
+            batch.pos[i] = item.position
+            batch.n_seq_id[i] = 1
+            batch.seq_id[i][0] = item.sequence
+            batch.logits[i] = item.read
+        batch.n_tokens = len(tokens)
+        status = lib.llama_decode(self._ctx, batch)
+        if status == 1:
+            raise RuntimeError(
+                f"llama.cpp's KV cache ({self.n_ctx} cells for {self.sequences} sequences) is full: "
+                "give the model a larger n_ctx (--model-arg n_ctx=...) or fewer episodes in flight"
+            )
+        if status != 0:
+            raise RuntimeError(f"llama_decode failed with status {status}")
+        self.decodes += 1
+        self.tokens_evaluated += len(tokens)
+        for i, item in enumerate(tokens):
+            if item.read:
+                logits = np.ctypeslib.as_array(lib.llama_get_logits_ith(self._ctx, i), shape=(self.n_vocab,))
+                rows.append(log_softmax(logits))
+            self.held[item.sequence].append(item.token)
         return rows
 
-    def _extend(self, sessions: Sequence[int], contexts: Sequence[list[int]]) -> list[NDArray[np.float64]]:
-        """Make each session's sequence hold its context; return log p(next token | context) per session.
-
-        A context's last token is always run (its row is what the search starts from). A session takes the
-        longest prefix any sequence holds; when an earlier session of this call will hold a longer one, it
-        waits for the next wave and copies it from there."""
-        first: dict[int, NDArray[np.float64]] = {}
-        waiting = list(range(len(sessions)))
-        while waiting:
-            wave, later = [], []
-            for order, index in enumerate(waiting):
-                session, ids = sessions[index], contexts[index]
-                limit = len(ids) - 1
-                own = min(common_prefix_length(self.held[session], ids), limit)
-                donor, shared = session, own
-                for other in range(self.sequences):
-                    length = min(common_prefix_length(self.held[other], ids), limit)
-                    if length > shared:
-                        donor, shared = other, length
-                ahead = max((min(common_prefix_length(contexts[j], ids), limit) for j in waiting[:order]), default=0)
-                if ahead >= shared + self.decode_size:  # an earlier context in this wave computes more of it
-                    later.append(index)
-                    continue
-                if donor != session and shared > own:
-                    self._adopt(session, donor, shared)
-                else:
-                    self._truncate(session, own)
-                wave.append(index)
-            tokens = [
-                _Token(sessions[i], p, contexts[i][p], p == len(contexts[i]) - 1)
-                for i in wave
-                for p in range(len(self.held[sessions[i]]), len(contexts[i]))
-            ]
-            for i, row in zip(wave, self._run(tokens), strict=True):
-                first[i] = row
-            waiting = later
-        return [first[i] for i in range(len(sessions))]
-
     # -- choosing ----------------------------------------------------------------------------------------
+    def submit(self, session: int, context: list[int], continuations: Sequence[Sequence[int]]) -> None:
+        """Open a choice for `session` (one at a time per session); `step` works on it until it is answered."""
+        if not 0 <= session < self.sequences:
+            raise ValueError(f"session {session} outside the {self.sequences} sequences of this context")
+        if session in self._open:
+            raise ValueError(f"session {session} already has a choice in flight")
+        if not context:
+            raise ValueError("the context must have at least one token")
+        if any(len(c) > self.decode_size for c in continuations):
+            raise ValueError(f"a continuation longer than {self.decode_size} tokens cannot run in one decode")
+        self._open[session] = _Choice(session, list(context), continuations)
+
+    def pending(self) -> bool:
+        """Whether a choice is open."""
+        return bool(self._open)
+
+    def step(self) -> list[tuple[int, BestContinuation]]:
+        """One decode of at most `decode_size` tokens over every open choice's pending work (branch and bound's
+        expansions first, then contexts); the (session, answer) of each choice it finished.
+
+        Choices move on independently: while one episode's search still expands, another's next context can fill
+        the same decode (continuous batching), so decodes stay full while any work is pending."""
+        self._start_contexts()
+        tokens: list[_Token] = []
+        plan: list[tuple[_Choice, int]] = []  # (choice, rows it reads) in decode order
+        for choice in sorted(self._open.values(), key=lambda c: c.session):
+            if choice.wanted is None:
+                continue
+            path, keep = choice.wanted
+            base = len(choice.context)
+            if len(path) - keep > self.decode_size - len(tokens):
+                continue
+            self._truncate(choice.session, base + keep)
+            tokens += [_Token(choice.session, base + j, path[j], True) for j in range(keep, len(path))]
+            plan.append((choice, len(path) - keep))
+        for choice in sorted(self._open.values(), key=lambda c: c.session):
+            room = self.decode_size - len(tokens)
+            if not choice.started or choice.steps is not None or room == 0:
+                continue
+            held = len(self.held[choice.session])
+            end = min(len(choice.context), held + room)
+            last = len(choice.context) - 1
+            tokens += [_Token(choice.session, p, choice.context[p], p == last) for p in range(held, end)]
+            plan.append((choice, 1 if end == len(choice.context) else 0))
+        if not tokens:
+            if self._open:
+                raise AssertionError("open choices but no work: a context waits for itself")
+            return []
+        rows = self._run(tokens)
+        finished: list[tuple[int, BestContinuation]] = []
+        offset = 0
+        for choice, count in plan:
+            mine, offset = rows[offset : offset + count], offset + count
+            if choice.steps is None:
+                if count:  # the context's last row: the search starts from it
+                    choice.steps = search(mine[0], choice.continuations)
+                    self._advance(choice, None)
+            else:
+                self._advance(choice, mine)
+            if choice.result is not None:
+                self._truncate(choice.session, len(choice.context))  # the candidates go; the context stays
+                del self._open[choice.session]
+                finished.append((choice.session, choice.result))
+        return finished
+
+    def _start_contexts(self) -> None:
+        """Give each new choice's sequence the longest prefix of its context that any sequence holds (copied, not
+        run). A choice whose context shares more with a context being computed now waits until that one holds
+        it, then copies it: episodes that retrieved the same CARE demonstrations run them once."""
+        computing = [c for c in self._open.values() if c.started and c.steps is None]
+        for choice in sorted(self._open.values(), key=lambda c: c.session):
+            if choice.started:
+                continue
+            ids, limit = choice.context, len(choice.context) - 1  # the last token always runs: its row is needed
+            own = min(common_prefix_length(self.held[choice.session], ids), limit)
+            donor, shared = choice.session, own
+            for other in range(self.sequences):
+                length = min(common_prefix_length(self.held[other], ids), limit)
+                if length > shared:
+                    donor, shared = other, length
+            ahead = max((min(common_prefix_length(c.context, ids), limit) for c in computing), default=0)
+            if ahead >= shared + self.decode_size:
+                continue
+            if donor != choice.session and shared > own:
+                self._adopt(choice.session, donor, shared)
+            else:
+                self._truncate(choice.session, own)
+            choice.started = True
+            computing.append(choice)
+
     def best(
         self, sessions: Sequence[int], contexts: Sequence[list[int]], continuations: Sequence[Sequence[Sequence[int]]]
     ) -> list[BestContinuation]:
-        """Each session's best continuation under sum scoring, exactly as branch and bound finds it, every
-        session's expansions of one round in shared decodes."""
+        """Each session's best continuation under sum scoring, exactly as branch and bound finds it, all of them
+        in shared decodes (`submit` each, then `step` until all are answered)."""
         if len(set(sessions)) != len(sessions):
             raise ValueError("one request per session at a time")
-        for session in sessions:
-            if not 0 <= session < self.sequences:
-                raise ValueError(f"session {session} outside the {self.sequences} sequences of this context")
-        rows = self._extend(sessions, contexts)
-        searches = [
-            _Search(s, list(c), search(row, options))
-            for s, c, row, options in zip(sessions, contexts, rows, continuations, strict=True)
-        ]
-        for item in searches:
-            self._advance(item, None)
+        for session, context, options in zip(sessions, contexts, continuations, strict=True):
+            self.submit(session, context, options)
+        answers: dict[int, BestContinuation] = {}
         try:
-            while active := [s for s in searches if s.result is None]:
-                tokens: list[_Token] = []
-                counts = []
-                for item in active:
-                    assert item.wanted is not None
-                    path, keep = item.wanted
-                    base = len(item.context)
-                    self._truncate(item.session, base + keep)
-                    tokens += [_Token(item.session, base + j, path[j], True) for j in range(keep, len(path))]
-                    counts.append(len(path) - keep)
-                results = self._run(tokens)
-                offset = 0
-                for item, count in zip(active, counts, strict=True):
-                    self._advance(item, results[offset : offset + count])
-                    offset += count
-        finally:
-            for item in searches:  # the candidates are gone; each context stays for its next step
-                self._truncate(item.session, len(item.context))
-        return [item.result for item in searches if item.result is not None]
+            while len(answers) < len(sessions):
+                answers.update(self.step())
+        except BaseException:
+            self.abandon()
+            raise
+        return [answers[s] for s in sessions]
+
+    def abandon(self) -> None:
+        """Drop every open choice (after an error): their sequences keep only their contexts' computed part."""
+        for choice in self._open.values():
+            self._truncate(choice.session, min(len(self.held[choice.session]), len(choice.context)))
+        self._open.clear()
 
     @staticmethod
-    def _advance(item: _Search, rows: Sequence[NDArray[np.float64]] | None) -> None:
+    def _advance(choice: _Choice, rows: Sequence[NDArray[np.float64]] | None) -> None:
+        assert choice.steps is not None
         try:
-            item.wanted = next(item.steps) if rows is None else item.steps.send(rows)
+            choice.wanted = next(choice.steps) if rows is None else choice.steps.send(rows)
         except StopIteration as finished:
-            item.result = finished.value
-            item.wanted = None
+            choice.result = finished.value
+            choice.wanted = None

@@ -110,6 +110,19 @@ class LanguageModel(ABC):
         documented noise."""
         return [self.best_continuation(r.context, r.continuations) for r in requests]
 
+    streams_choices: bool = False
+    """True when the backend answers choice requests continuously (`submit_choice`, `advance_choices`): the
+    scheduler then hands it each episode's choice as soon as the episode asks, and takes answers back as they
+    come, so that one episode's next step can share a batch with another's unfinished search."""
+
+    def submit_choice(self, request: ChoiceRequest) -> None:
+        """Open a choice (continuous backends only, `streams_choices`)."""
+        raise NotImplementedError(f"{type(self).__name__} does not stream choices")
+
+    def advance_choices(self) -> list[tuple[int, BestContinuation]]:
+        """Do one batch of work on the open choices; the (session, answer) of those it finished."""
+        raise NotImplementedError(f"{type(self).__name__} does not stream choices")
+
     def score_requests(self, requests: Sequence[ScoreRequest]) -> list[list[float]]:
         """Every continuation's score for each request of every episode in flight (default: one at a time)."""
         return [self.score_continuations(r.context, r.continuations) for r in requests]
