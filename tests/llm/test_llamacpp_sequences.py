@@ -2,7 +2,8 @@
 and its memory over many episodes. Needs the `llamacpp` extra (`make test` installs it).
 
 Serial and batched scores of one candidate differ by llama.cpp's batch-layout noise (the same position gives
-other values in another batch: up to 0.46 nats measured on the default model, `../shared/design/batching.md`).
+other values in another batch: up to 0.46 nats per position measured on the default model,
+`../shared/design/batching.md`; see `NOISE` for the summed scores of these tests).
 So the tests bound the difference by that noise and check choices where the serial scores leave a margin wider
 than it, never digits.
 """
@@ -20,8 +21,10 @@ from talkdem.planner.prompt import append_step
 from talkdem.skills import vocabulary
 from talkdem.tasks import load_tasks
 
-NOISE = 0.5
-"""Nats: the measured bound of llama.cpp's batch-layout noise on one candidate's summed score (0.46)."""
+NOISE = 0.75
+"""Nats: a bound on llama.cpp's batch-layout noise on one candidate's summed score. Measured between the serial
+scorer and 4 sequences in flight over 72 skills x the 4 steps of these tests: at most 0.55 on SmolLM2-135M (Q4_1),
+0.28 on the default model (Q4_K_M); the argmax agreed at every step."""
 SKILLS = tuple(" " + skill.text for skill in vocabulary())
 
 
@@ -102,7 +105,7 @@ def test_a_batched_run_records_its_layout_and_resumes(tmp_path: Path) -> None:
     assert main([*command, "--concurrency", "3"]) == 0
     header = read_header(out)
     assert header.model["scoring"] == "sequences-32"
-    assert header.config["concurrency"] == 3 and header.config["sequences"] == 3
+    assert header.config["backend_args"]["concurrency"] == 3 and header.config["backend_args"]["sequences"] == 3
     first = [e.episode_id for e in read_episodes(out)]
     assert len(first) == 4 and len(set(first)) == 4
     assert main([*command, "--concurrency", "3"]) == 0
