@@ -20,8 +20,11 @@ from talkdem.paths import repo_root
 
 DATA = repo_root() / "data"
 RANK_MODEL = "qwen2.5-coder-0.5b"
-NEAR_TIE = 1e-3
-"""Nats per token: llama.cpp's scores move in the last digits with CPU kernels and threads."""
+MACHINE_NOISE = 0.05
+"""Nats per token by which one candidate's mean score may move between machines. llama.cpp's quantised
+kernels differ by CPU (its wheel is built on the machine that installs it): data/ was ranked on one machine,
+and on the 2-core AMD EPYC (AVX2) machines CI runs on, the 122 verified candidates of the first benchmark and
+memory tasks score up to 0.026 nats per token apart from it (mean 0.008)."""
 
 
 @pytest.fixture(scope="module")
@@ -111,25 +114,41 @@ def test_shipped_data_is_what_the_build_writes(tmp_path: Path) -> None:
 
 
 def test_the_ranking_model_scores_the_shipped_candidates_alike(ranked: BuildResult) -> None:
-    """The replay checks the choice rule on the recorded scores; this checks the scores: the model run here
-    gives the same verified candidates of the first task the same scores, up to llama.cpp's last digits (so the
-    choice can differ only where a score sits within NEAR_TIE of the rule's threshold)."""
-    task_id = json.loads((DATA / "tasks" / "benchmark.jsonl").read_text().splitlines()[0])["task_id"]
-    shipped = {row["id"]: row for row in recorded_rows(DATA)[f"benchmark:{task_id}"]}
-    fresh = {row["id"]: row for row in recorded_rows(ranked.folder)[f"benchmark:{task_id}"]}
-    assert sorted(shipped) == sorted(fresh)
-    if {row["ranking"]["model"] for row in shipped.values()} == {None}:  # data/ is not ranked
-        assert all(row["ranking"]["scored"] == [] for row in shipped.values())
-        return
-    checked = 0
-    for row_id, row in shipped.items():
-        ours, theirs = row["ranking"], fresh[row_id]["ranking"]
-        assert ours["model"] == theirs["model"], row_id
-        assert [e["seed"] for e in ours["scored"]] == [e["seed"] for e in theirs["scored"]], row_id
-        for a, b in zip(ours["scored"], theirs["scored"], strict=True):
-            assert abs(a["score"] - b["score"]) < NEAR_TIE, (row_id, a, b)
-            checked += 1
-    assert checked >= 16
+    """The replay checks the choice rule on the recorded scores; this checks the model: run here, it scores the
+    same verified candidates of the first benchmark and memory tasks as data/ records, within MACHINE_NOISE, and
+    chooses what data/ chose wherever the recorded scores decide the choice by more than that noise can move."""
+    from builders.generation.ranking import choose
+
+    margin = json.loads((DATA / "build_stats.json").read_text())["build"]["rank_margin"] or 0.0
+    shipped_rows, fresh_rows = recorded_rows(DATA), recorded_rows(ranked.folder)
+    units = [key for key in fresh_rows if key.startswith("benchmark:")][:1] + [
+        key for key in fresh_rows if key.startswith("memory:")
+    ][:1]
+    assert len(units) == 2
+    compared = decided = 0
+    for unit in units:
+        shipped = {row["id"]: row for row in shipped_rows[unit]}
+        fresh = {row["id"]: row for row in fresh_rows[unit]}
+        assert sorted(shipped) == sorted(fresh)
+        if {row["ranking"]["model"] for row in shipped.values()} == {None}:  # data/ is not ranked
+            assert all(row["ranking"]["scored"] == [] for row in shipped.values())
+            return
+        for row_id, row in shipped.items():
+            ours, theirs = row["ranking"], fresh[row_id]["ranking"]
+            assert ours["model"] == theirs["model"], row_id
+            assert [e["seed"] for e in ours["scored"]] == [e["seed"] for e in theirs["scored"]], row_id
+            recorded = [e["score"] for e in ours["scored"]]
+            scored = [e["score"] for e in theirs["scored"]]
+            for a, b in zip(recorded, scored, strict=True):
+                assert abs(a - b) < MACHINE_NOISE, (row_id, a, b)
+                compared += 1
+            # Each score and the best may each move by the noise, so a candidate's distance to the threshold
+            # (best - margin) by twice that: beyond it, the choice cannot change.
+            threshold = max(recorded) - margin
+            if all(abs(score - threshold) > 2 * MACHINE_NOISE for score in recorded if score != max(recorded)):
+                assert choose(scored, margin) == choose(recorded, margin), row_id
+                decided += 1
+    assert compared >= 100 and decided >= 10, (compared, decided)
 
 
 def test_the_validation_reads_which_model_ranked_a_folder(ranked: BuildResult) -> None:
