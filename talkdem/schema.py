@@ -171,10 +171,13 @@ class Condition:
     @classmethod
     def parse(cls, text: str) -> Condition:
         """`clean`, `intrusion:3` (a pattern alone is expanded to its three levels by `parse_conditions`)."""
-        name, _, level = text.strip().partition(":")
+        name, colon, level = text.strip().partition(":")
         if name != CLEAN and name not in PATTERNS:
             raise ValueError(f"unknown condition '{text}': expected clean or one of {', '.join(PATTERNS)}")
         if name == CLEAN:
+            # `clean:0` is how instruction ids spell the control; any other level would be dropped without a word
+            if colon and level != "0":
+                raise ValueError(f"condition '{text}': clean has no levels (write clean)")
             return cls(CLEAN, 0)
         if level not in {str(n) for n in LEVELS}:
             raise ValueError(f"condition '{text}': the level must be 1, 2 or 3")
@@ -190,7 +193,9 @@ CONDITIONS: tuple[Condition, ...] = (
 
 
 def parse_conditions(text: str | None) -> tuple[Condition, ...]:
-    """`clean,intrusion:3,topic_drift` -> conditions (a pattern without a level means all three); None: all 16."""
+    """`clean,intrusion:3,topic_drift` -> conditions (a pattern without a level means all three); None: all 16.
+    A condition named twice (`clean,clean`, `intrusion,intrusion:3`) is selected once, and empty parts
+    (`clean,`) are skipped; a text with no condition at all is refused."""
     if text is None:
         return CONDITIONS
     conditions: list[Condition] = []
@@ -198,7 +203,9 @@ def parse_conditions(text: str | None) -> tuple[Condition, ...]:
         if not part:
             continue
         if part != CLEAN and ":" not in part:
-            conditions += [Condition.parse(f"{part}:{level}") for level in LEVELS]
+            if part not in PATTERNS:  # named as written, not as the `part:1` it would expand to
+                raise ValueError(f"unknown condition '{part}': expected clean or one of {', '.join(PATTERNS)}")
+            conditions += [Condition(part, level) for level in LEVELS]
         else:
             conditions.append(Condition.parse(part))
     if not conditions:

@@ -17,7 +17,8 @@ def register(subparsers: Any) -> None:
         "episodes", help="list the episodes of a --limit/--conditions selection (the ones `talkdem run` plans), JSONL"
     )
     episodes.add_argument(
-        "--conditions", help="comma-separated: clean, PATTERN (all levels) or PATTERN:LEVEL (default: all 16)"
+        "--conditions",
+        help="comma-separated: clean (no levels), PATTERN (all levels) or PATTERN:LEVEL (1-3); default: all 16",
     )
     episodes.add_argument(
         "--limit", type=positive_int, help="number of tasks (stratified over task types; default: all 300)"
