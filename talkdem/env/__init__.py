@@ -16,12 +16,13 @@ from talkdem.env.recorder import AGENT_RESUME_KEYS, EpisodeRecorder
 from talkdem.sim.observation import observation_of
 
 if TYPE_CHECKING:
-    from talkdem.env.gym_env import TalkDemEnv
+    from talkdem.env.gym_env import EnvArgumentError, TalkDemEnv
     from talkdem.instructions import Instruction
 
 __all__ = [
     "AGENT_RESUME_KEYS",
     "ENV_ID",
+    "EnvArgumentError",
     "EpisodeRecorder",
     "TalkDemEnv",
     "make",
@@ -57,10 +58,10 @@ def make(**kwargs: Any) -> TalkDemEnv:
 
 
 def __getattr__(name: str) -> Any:
-    if name == "TalkDemEnv":
-        from talkdem.env.gym_env import TalkDemEnv
+    if name in ("TalkDemEnv", "EnvArgumentError"):  # they import gymnasium: only when asked for
+        from talkdem.env import gym_env
 
-        return TalkDemEnv
+        return getattr(gym_env, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 

@@ -5,7 +5,19 @@ in the scene); `step(skill)` gives the simulator's answer in words (`observation
 the goal holds at `done`, else 0.0; `terminated` is `done`, `truncated` the step limit (30). A string outside
 the 214 skills is a failed step, as the simulator records it. When an episode ends, `info` carries the goal
 conditions, the hazards and the trace, so an agent's episodes can be written as a run directory
-(`EpisodeRecorder`). Nothing is random: `seed` is accepted for the API and changes nothing.
+(`EpisodeRecorder`).
+
+Which episode `reset` plays: the selection is a cycle. `reset(seed=s)` puts the cycle at an index drawn from
+Gymnasium's `np_random` seeded with `s` (so the same `s` always gives the same episode, on any selection),
+and each `reset()` without a seed takes the next episode of the cycle from there; an environment never
+seeded starts at the selection's first episode. `options={"episode_id": ...}` plays that episode and leaves
+the cycle where it is. Nothing else is random: the simulator and the simulated person are deterministic.
+
+Every observation lies in `observation_space` whatever the action: a string outside the vocabulary is
+echoed in the failure observation only as a bounded rendering (whitespace collapsed, at most 64 characters,
+characters outside the space's charset shown as `?`); the trace keeps the action verbatim. An action that
+is not a string is a failed step too (its `str()`). Bad constructor or `reset` arguments raise
+`EnvArgumentError` (a ValueError) naming the argument and what it should be.
 
 With `clarify="oracle"` or `"in-pattern"` the agent may also ask (the clarification track, as `talkdem run
 --clarify`): a step that starts with `ask` (`info["questions"]` lists the fixed ones; free-form questions are
@@ -17,8 +29,10 @@ the episode ends, for `EpisodeRecorder.record(..., dialogue=...)`.
 
 from __future__ import annotations
 
+import numbers
 import string
-from collections.abc import Sequence
+from collections.abc import Iterable, Mapping
+from dataclasses import replace
 from functools import cache
 from typing import Any
 
@@ -27,6 +41,7 @@ from gymnasium import spaces
 
 from talkdem.clarify import CLARIFY_MODES, ClarifyMode, Exchange, SimulatedPerson, is_question, question_texts
 from talkdem.instructions import Instruction, load_instructions
+from talkdem.registry import UnknownNameError
 from talkdem.schema import parse_instruction_id
 from talkdem.sim.observation import observation_of
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorBackend, SimulatorEpisode, load_simulator
@@ -34,9 +49,41 @@ from talkdem.sim.trace import EpisodeTrace
 from talkdem.skills import natural_name, vocabulary
 from talkdem.tasks import get_task
 
-__all__ = ["TalkDemEnv", "scene_objects"]
+__all__ = ["ARGUMENTS", "RESET_OPTIONS", "EnvArgumentError", "TalkDemEnv", "scene_objects"]
 
 _MAX_TEXT = 4096
+_MAX_ACTION = 64
+"""The action space's longest string (the longest skill has 27 characters), and the most of an action a
+failure observation repeats."""
+
+ARGUMENTS = ("episodes", "max_steps", "simulator", "show_objects", "render_mode", "clarify", "clarify_budget")
+"""The keyword arguments `TalkDemEnv` (and `gym.make(ENV_ID, ...)`) take."""
+
+RESET_OPTIONS = ("episode_id", "show_objects")
+"""The keys `reset(options=...)` understands."""
+
+
+class EnvArgumentError(ValueError):
+    """A `TalkDemEnv` or `reset` argument that is not what it should be (the message names both)."""
+
+
+def _bad(argument: str, expected: str, got: object) -> EnvArgumentError:
+    shown = repr(got)
+    shown = shown if len(shown) <= 60 else shown[:57] + "..."
+    return EnvArgumentError(f"TalkDem-v0: {argument} must be {expected}, got {shown} ({type(got).__name__})")
+
+
+def _whole(argument: str, value: object, least: int) -> int:
+    # bool is an int to Python; `max_steps=True` is a mistake, not 1. numpy integers are whole numbers.
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < least:
+        raise _bad(argument, f"a whole number >= {least}", value)
+    return int(value)
+
+
+def _flag(argument: str, value: object) -> bool:
+    if not isinstance(value, bool):
+        raise _bad(argument, "True or False", value)
+    return value
 
 
 @cache
@@ -46,6 +93,29 @@ def _charset() -> str:
     for instruction in load_instructions():
         chars.update(instruction.text)
     return "".join(sorted(chars))
+
+
+@cache
+def _charset_set() -> frozenset[str]:
+    return frozenset(_charset())
+
+
+def _in_space(text: str) -> str:
+    """`text` as an observation of the declared space: characters outside the charset become `?`, and the
+    length is capped. Instructions, skills and simulator messages are inside already; this is the one exit
+    every observation passes, so an answer or an echoed action can never leave the space."""
+    charset = _charset_set()
+    if len(text) > _MAX_TEXT:
+        text = text[: _MAX_TEXT - 3] + "..."
+    return "".join(c if c in charset else "?" for c in text)
+
+
+def _shown_action(text: str) -> str:
+    """How a failure observation repeats an action outside the vocabulary: on one line and at most
+    `_MAX_ACTION` characters. Echoing it verbatim would let a 10 MB or multi-line action become the
+    observation; the agent still learns which of its strings failed, and the trace keeps it whole."""
+    flat = " ".join(text.split())
+    return flat if len(flat) <= _MAX_ACTION else flat[: _MAX_ACTION - 3] + "..."
 
 
 def scene_objects(task_id: str) -> tuple[str, ...]:
@@ -59,17 +129,22 @@ def scene_objects(task_id: str) -> tuple[str, ...]:
 class TalkDemEnv(gym.Env[str, str]):
     """The TALK-Dem benchmark as a Gymnasium environment over a selection of episodes.
 
-    `episodes`: the instructions to iterate (default: all 4,800, in `talkdem episodes` order); `reset()`
-    without an `episode_id` option takes the next one, cycling. `options={"episode_id": ...}` picks any
-    episode of the dataset, selected or not. `clarify`, `clarify_budget`: questions the agent may ask (see the
-    module docstring).
+    `episodes`: the episodes to play, a sequence of `Instruction`s (what `talkdem.env.select` returns) or
+    episode ids (`<task_id>:clean`, `<task_id>:<pattern>:<level>`); default: all 4,800, in `talkdem
+    episodes` order. `reset(seed=s)` starts the selection's cycle at an index drawn from Gymnasium's
+    `np_random` seeded with `s` (the same `s`, the same episode); `reset()` takes the next episode of the
+    cycle (from the first episode if the environment was never seeded). `options={"episode_id": ...}` picks
+    any episode of the dataset, selected or not, without moving the cycle; `options={"show_objects": True}`
+    lists the scene's objects for this episode. `max_steps`: the step limit (a whole number >= 1);
+    `simulator`: a registered backend's name or a backend; `clarify`, `clarify_budget`: questions the agent
+    may ask (see the module docstring). A bad argument raises `EnvArgumentError`.
     """
 
     metadata = {"render_modes": ["ansi"]}  # noqa: RUF012 (Gymnasium's class attribute)
 
     def __init__(
         self,
-        episodes: Sequence[Instruction] | None = None,
+        episodes: Iterable[Instruction | str] | None = None,
         *,
         max_steps: int = DEFAULT_MAX_STEPS,
         simulator: str | SimulatorBackend = "symbolic",
@@ -77,60 +152,123 @@ class TalkDemEnv(gym.Env[str, str]):
         render_mode: str | None = None,
         clarify: ClarifyMode = "none",
         clarify_budget: int = 2,
+        **unknown: object,
     ) -> None:
+        # Every argument is checked here, where it enters: a wrong type must not surface later as an
+        # AttributeError or TypeError from deep inside reset or step. `**unknown` catches a misspelt
+        # keyword of `gym.make(...)` or `make(...)`, which Python would report as a TypeError.
+        if unknown:
+            raise EnvArgumentError(
+                f"TalkDem-v0: unknown argument(s) {', '.join(sorted(unknown))} (known: {', '.join(ARGUMENTS)})"
+            )
         if clarify not in CLARIFY_MODES:
-            raise ValueError(f"TalkDem-v0: clarify must be one of {', '.join(CLARIFY_MODES)}, got {clarify!r}")
-        if isinstance(clarify_budget, bool) or not isinstance(clarify_budget, int) or clarify_budget < 0:
-            raise ValueError(f"TalkDem-v0: clarify_budget must be a whole number >= 0, got {clarify_budget!r}")
+            raise _bad("clarify", f"one of {', '.join(CLARIFY_MODES)}", clarify)
         self.clarify: ClarifyMode = clarify
-        self.clarify_budget = clarify_budget
+        self.clarify_budget = _whole("clarify_budget", clarify_budget, 0)
+        self.max_steps = _whole("max_steps", max_steps, 1)
+        self.show_objects = _flag("show_objects", show_objects)
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise _bad("render_mode", "None or 'ansi'", render_mode)
+        self.render_mode = render_mode
+        if isinstance(simulator, str):
+            try:
+                self.backend = load_simulator(simulator)
+            except UnknownNameError as error:  # it lists the known names
+                raise EnvArgumentError(f"TalkDem-v0: simulator: {error}") from None
+        elif callable(getattr(simulator, "start", None)):
+            self.backend = simulator
+        else:
+            raise _bad("simulator", "a simulator name (symbolic, ai2thor) or a SimulatorBackend", simulator)
         self._person: SimulatedPerson | None = None
         self.dialogue: list[Exchange] = []
         """The questions asked and answered in the current episode."""
-        self.selection = tuple(episodes) if episodes is not None else load_instructions()
-        if not self.selection:
-            raise ValueError("TalkDem-v0: the episode selection is empty")
-        self.max_steps = max_steps
-        self.backend = load_simulator(simulator) if isinstance(simulator, str) else simulator
-        self.show_objects = show_objects
-        self.render_mode = render_mode
+        self._by_id = {i.id: i for i in load_instructions()}
+        self.selection = self._selection(episodes)
         self.skills = tuple(skill.text for skill in vocabulary())
         charset = _charset()
         self.observation_space = spaces.Text(max_length=_MAX_TEXT, min_length=0, charset=charset)
-        self.action_space = spaces.Text(max_length=64, min_length=1, charset=charset)
-        self._by_id = {i.id: i for i in load_instructions()}
+        self.action_space = spaces.Text(max_length=_MAX_ACTION, min_length=1, charset=charset)
         self._next = 0
+        """The index in `selection` of the episode the next unseeded `reset()` plays."""
         self._episode: SimulatorEpisode | None = None
         self.instruction: Instruction | None = None
         self.trace: EpisodeTrace | None = None
         """The finished episode's trace (None while it runs)."""
         self._last = ""
 
-    def _pick(self, options: dict[str, Any] | None) -> Instruction:
-        episode_id = (options or {}).get("episode_id")
-        if episode_id is None:
-            chosen = self.selection[self._next % len(self.selection)]
-            self._next += 1
-            return chosen
+    def _selection(self, episodes: Iterable[Instruction | str] | None) -> tuple[Instruction, ...]:
+        if episodes is None:
+            return load_instructions()
+        expected = "a sequence of Instructions (talkdem.env.select(...)) or episode ids"
+        # A string is iterable too: `episodes="clean"` would otherwise be five one-letter "episodes".
+        if isinstance(episodes, str | bytes | Mapping) or not isinstance(episodes, Iterable):
+            raise _bad("episodes", expected, episodes)
+        chosen = []
+        for index, item in enumerate(episodes):
+            if isinstance(item, str):
+                chosen.append(self._by_episode_id(item, f"episodes[{index}]"))
+            elif isinstance(item, Instruction):
+                try:
+                    get_task(item.task_id)  # a hand-made Instruction must name a task the simulator has
+                except KeyError as error:
+                    raise EnvArgumentError(f"TalkDem-v0: episodes[{index}] ('{item.id}'): {error.args[0]}") from None
+                chosen.append(item)
+            else:
+                raise _bad(f"episodes[{index}]", "an Instruction or an episode id", item)
+        if not chosen:
+            raise EnvArgumentError("TalkDem-v0: episodes must hold at least one episode, got an empty selection")
+        return tuple(chosen)
+
+    def _by_episode_id(self, episode_id: object, argument: str) -> Instruction:
         if not isinstance(episode_id, str):
-            raise ValueError(f"TalkDem-v0: options['episode_id'] must be a string, got {type(episode_id).__name__}")
-        task_id, condition = parse_instruction_id(episode_id)  # names the expected shape when malformed
+            raise _bad(argument, "an episode id string", episode_id)
+        try:
+            task_id, condition = parse_instruction_id(episode_id)
+        except ValueError as error:  # names the expected shape
+            raise EnvArgumentError(f"TalkDem-v0: {argument}: {error}") from None
         canonical = f"{task_id}:{condition.pattern}:{condition.level}"
         if canonical not in self._by_id:
-            raise ValueError(f"TalkDem-v0: unknown episode id '{episode_id}'")
+            raise EnvArgumentError(f"TalkDem-v0: {argument}: unknown episode id '{episode_id}'")
         return self._by_id[canonical]
 
+    def _options(self, options: object) -> tuple[Instruction | None, bool]:
+        """(the episode `options` asks for, if any; whether to show the scene's objects)."""
+        if options is None:
+            return None, self.show_objects
+        if not isinstance(options, dict):
+            raise _bad("reset options", f"None or a dict with keys {', '.join(RESET_OPTIONS)}", options)
+        unknown = sorted(str(key) for key in options if key not in RESET_OPTIONS)
+        if unknown:
+            raise EnvArgumentError(
+                f"TalkDem-v0: reset options: unknown key(s) {', '.join(unknown)} (known: {', '.join(RESET_OPTIONS)})"
+            )
+        episode_id = options.get("episode_id")
+        chosen = None if episode_id is None else self._by_episode_id(episode_id, "options['episode_id']")
+        show = options.get("show_objects")
+        return chosen, self.show_objects or (show is not None and _flag("options['show_objects']", show))
+
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[str, dict[str, Any]]:
+        # Gymnasium's own seed check raises gymnasium.error.Error, which is no ValueError.
+        seed = None if seed is None else _whole("seed", seed, 0)
+        chosen, show = self._options(options)
         super().reset(seed=seed)
-        instruction = self._pick(options)
+        if seed is not None:
+            # The seed places the cycle (and nothing else is random): one draw from the generator Gymnasium
+            # has just seeded, so the same seed plays the same episode and unseeded resets go on from there.
+            self._next = int(self.np_random.integers(len(self.selection)))
+        instruction = chosen
+        if instruction is None:
+            instruction = self.selection[self._next]
+            self._next = (self._next + 1) % len(self.selection)
         task = get_task(instruction.task_id)
         self.instruction, self.trace = instruction, None
         self._episode = self.backend.start(task, max_steps=self.max_steps)
         self._person = SimulatedPerson(self.clarify, instruction, task) if self.clarify != "none" else None
         self.dialogue = []
-        show = self.show_objects or bool((options or {}).get("show_objects"))
         objects = scene_objects(instruction.task_id) if show else ()
-        observation = instruction.text + (f"\nObjects in the scene: {', '.join(objects)}." if objects else "")
+        observation = _in_space(
+            instruction.text + (f"\nObjects in the scene: {', '.join(objects)}." if objects else "")
+        )
         self._last = observation
         info: dict[str, Any] = {
             "episode_id": instruction.id,
@@ -152,11 +290,13 @@ class TalkDemEnv(gym.Env[str, str]):
             raise RuntimeError("TalkDem-v0: call reset() before step()")
         if self.trace is not None:
             raise RuntimeError(f"TalkDem-v0: episode '{self.instruction.id}' is over; call reset()")
+        # Not a string (None from an agent's failed parse, a number): its text is the step, a failed one.
         text = action if isinstance(action, str) else str(action)
         if self._person is not None and is_question(text) and len(self.dialogue) < self.clarify_budget:
             return self._ask(text)
         record = self._episode.step(text)
-        observation = observation_of(record)
+        # The sentence every planner reads, with the action as a failure may repeat it (`_shown_action`).
+        observation = _in_space(observation_of(replace(record, skill=_shown_action(record.skill))))
         self._last = observation
         info: dict[str, Any] = {
             "episode_id": self.instruction.id,
@@ -190,7 +330,8 @@ class TalkDemEnv(gym.Env[str, str]):
         assert self._episode is not None
         exchange = self._person.ask(question, len(self._episode.steps))
         self.dialogue.append(exchange)
-        self._last = exchange.answer
+        answer = _in_space(exchange.answer)
+        self._last = answer
         info: dict[str, Any] = {
             "episode_id": self.instruction.id,
             "question": exchange.question,
@@ -199,7 +340,7 @@ class TalkDemEnv(gym.Env[str, str]):
             "in_pattern": exchange.in_pattern,
             "questions_left": self.clarify_budget - len(self.dialogue),
         }
-        return exchange.answer, 0.0, False, False, info
+        return answer, 0.0, False, False, info
 
     def finish(self) -> EpisodeTrace:
         """End the current episode where it stands (an agent that stops without `done`): its trace."""

@@ -4,6 +4,10 @@ The header names the agent (name, version, and, if the author gives them, its mo
 episode becomes one `EpisodeRecord.from_trace`, the constructor every writer uses. Plans come from the
 agent, so the planner is `external`, as for `talkdem score`. A killed recording resumes: episodes already on
 disk are kept, and `recorded` says which ids to skip.
+
+The header's `status` follows the rule every run writer uses (`talkdem.runs.store`): `running` while the
+recorder is open; when it closes normally, `complete` if every planned episode is on disk (no `planned`: the
+recorded episodes are the run), else `incomplete`; `incomplete` when the `with` block ends in an exception.
 """
 
 from __future__ import annotations
@@ -17,7 +21,7 @@ from typing import Any
 from talkdem.clarify import Exchange
 from talkdem.instructions import Instruction
 from talkdem.runs.records import EpisodeRecord, RunHeader
-from talkdem.runs.store import EpisodeWriter, open_run, run_lock
+from talkdem.runs.store import EpisodeWriter, finish_status, open_run, run_lock, set_status
 from talkdem.sim.trace import EpisodeTrace
 
 __all__ = ["AGENT_RESUME_KEYS", "EpisodeRecorder"]
@@ -47,6 +51,7 @@ class EpisodeRecorder:
         if not agent.strip():
             raise ValueError("an agent recording needs the agent's name")
         self.run_dir = run_dir
+        self.planned = tuple(instruction.id for instruction in planned)
         self.header = RunHeader.new(
             model={"backend": "agent", "name": agent, "revision": version},
             planner="external",
@@ -64,10 +69,21 @@ class EpisodeRecorder:
         try:
             self._hold.enter_context(run_lock(run_dir))
             self.recorded = {e.episode_id for e in open_run(run_dir, self.header, AGENT_RESUME_KEYS)}
+            # Unwound in reverse: the writer closes, then the status is set, then the lock is let go.
+            self._hold.push(self._set_status)
             self._writer = self._hold.enter_context(EpisodeWriter(run_dir))
-        except BaseException:
-            self._hold.close()
+        except BaseException as error:
+            self._hold.__exit__(type(error), error, error.__traceback__)
             raise
+
+    def _set_status(
+        self, kind: type[BaseException] | None, value: BaseException | None, traceback: TracebackType | None
+    ) -> None:
+        """The run header's final status, as `talkdem run` and `talkdem score` set it."""
+        if kind is not None:
+            set_status(self.run_dir, "incomplete")
+        else:
+            finish_status(self.run_dir, self.planned)  # nothing planned: complete, what was recorded is the run
 
     def record(
         self,
@@ -92,6 +108,7 @@ class EpisodeRecorder:
         return record
 
     def close(self) -> None:
+        """Finish the recording: the header's status becomes `complete` or `incomplete` (see the module)."""
         self._hold.close()
 
     def __enter__(self) -> EpisodeRecorder:
@@ -100,4 +117,4 @@ class EpisodeRecorder:
     def __exit__(
         self, kind: type[BaseException] | None, value: BaseException | None, traceback: TracebackType | None
     ) -> None:
-        self.close()
+        self._hold.__exit__(kind, value, traceback)

@@ -44,6 +44,7 @@ def test_the_example_records_a_run_that_report_accepts(example: dict[str, Any]) 
     header = read_header(run_dir)
     assert header.model == {"backend": "agent", "name": "replay-agent", "revision": "1.0"}
     assert header.config["agent"]["version"] == "1.0" and header.config["planned_episodes"] == 12
+    assert header.status == "complete", "every planned episode was recorded"
     records = read_episodes(run_dir)
     assert [r.episode_id for r in records] == [i.id for i in example["episodes"]]
     assert all(r.success for r in records)
