@@ -53,20 +53,20 @@ class MemoryItem:
 
 
 def _front_matter(readme: Path) -> dict[str, Any]:
-    import yaml
+    from talkdem.yaml_input import YamlInputError, load_yaml
 
     text = readme.read_text(encoding="utf-8")
     parts = text.split("---", 2)
     if not text.startswith("---") or len(parts) < 3:
         raise ValueError(f"{readme}: no YAML front matter between '---' lines (the dataset card declares the configs)")
     try:
-        loaded = yaml.safe_load(parts[1])
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        # The block starts on the file's first line (after its '---'): its line k is the file's line k + 1.
-        where = f"{readme}:{mark.line + 1}" if mark is not None else str(readme)
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise ValueError(f"{where}: the card's YAML front matter does not parse ({problem})") from None
+        # The package's bounded reader (no alias bomb, no duplicate key), as for every YAML file read.
+        loaded = load_yaml(parts[1])
+    except YamlInputError as exc:
+        # The block starts on the file's first line (after its '---'): its line k is the file's line k.
+        where = f"{readme}:{exc.line}" if exc.line is not None else str(readme)
+        verb = "does not parse" if exc.syntax else "is refused"
+        raise ValueError(f"{where}: the card's YAML front matter {verb} ({exc.problem})") from None
     if not isinstance(loaded, dict):
         raise ValueError(f"{readme}: the YAML front matter is not a mapping (it declares `configs:`)")
     return loaded

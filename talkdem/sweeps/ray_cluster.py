@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import os
+import socket
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -32,6 +33,11 @@ _MISSING = (
     "every node of the cluster needs the same Ray version"
 )
 _POLL_SECONDS = 5.0
+_LISTENING_SECONDS = 5.0
+"""How long the check that something listens at `--ray HOST:PORT` waits: Ray's own connection retries for
+minutes before it gives up on an address where nothing listens."""
+_CLIENT_PORT = 10001
+"""The port of `ray://HOST` without one (Ray Client's default)."""
 
 
 def _ray() -> Any:
@@ -45,7 +51,11 @@ def _ray() -> Any:
 def connect(address: str) -> bool:
     """Connect this process to the Ray cluster at `address` (`auto`: the one `ray start` left running here or
     `RAY_ADDRESS` names; `HOST:PORT`; `ray://HOST:PORT`; `local`: a new one for this process alone). True when
-    this call connected (and should disconnect); an existing connection is used as it is."""
+    this call connected (and should disconnect); an existing connection is used as it is. An address where
+    nothing listens is refused at once (`ValueError` naming it), not after Ray's minutes of retries."""
+    endpoint = _endpoint(address)
+    if endpoint is not None:
+        _check_listening(*endpoint)
     ray = _ray()
     if ray.is_initialized():
         return False
@@ -54,6 +64,49 @@ def connect(address: str) -> bool:
     except (ConnectionError, RuntimeError, ValueError) as error:
         raise ValueError(f"--ray {address}: cannot connect to a Ray cluster ({str(error).splitlines()[0]})") from None
     return True
+
+
+def _endpoint(address: str) -> tuple[str, str, int] | None:
+    """(the address as the user named it, host, port) that `address` connects to, or None where Ray finds it
+    (`auto` without `RAY_ADDRESS`: the cluster `ray start` left running on this machine; `local`; another
+    client scheme). A malformed one is a `ValueError` naming it."""
+    named = address
+    if address == "auto":
+        address = os.environ.get("RAY_ADDRESS", "").strip()
+        if not address or address in ("auto", "local"):
+            return None
+        named = f"auto (RAY_ADDRESS={address})"
+    if address == "local":
+        return None
+    scheme, separator, rest = address.partition("://")
+    if separator and scheme != "ray":
+        return None  # a client scheme of a Ray plugin: only it knows where it connects
+    target = rest if separator else address
+    if target.startswith("["):  # [IPv6] or [IPv6]:PORT
+        host, _, after = target[1:].partition("]")
+        colon, port = after[:1], after[1:]
+    else:
+        host, colon, port = target.rpartition(":")
+        host, port = (host, port) if colon else (target, "")
+    if not colon and separator:  # ray://HOST: Ray Client's default port
+        port = str(_CLIENT_PORT)
+    if not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise ValueError(f"--ray {named}: expected auto, HOST:PORT or ray://HOST:PORT")
+    return named, host, int(port)
+
+
+def _check_listening(address: str, host: str, port: int) -> None:
+    try:
+        with socket.create_connection((host, port), timeout=_LISTENING_SECONDS):
+            pass
+    except OSError as error:
+        timed_out = isinstance(error, TimeoutError)
+        reason = f"no answer in {_LISTENING_SECONDS:g} s" if timed_out else (error.strerror or str(error) or "refused")
+        where = f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+        raise ValueError(
+            f"--ray {address}: no Ray cluster at {where} ({reason}); "
+            "start one there (`ray start --head`) or give the address it printed"
+        ) from None
 
 
 def actor_resources(run: SweepRun, threads: int) -> dict[str, float]:

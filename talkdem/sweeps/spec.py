@@ -21,6 +21,12 @@ the keys of `args`, `planner` and a strategy's `args` are `talkdem run`'s option
 key and what was expected. A model's `model_args` are its backend's constructor options, checked by the backend's
 own declaration (`talkdem.llm.interface.options`) and passed as `--model-arg KEY=VALUE`; `threads` is not one of them
 here, since the executor gives every worker its share of the CPUs (`talkdem sweep --threads`).
+
+Before any of that, the spec's shape is checked: the file is read through the package's bounded YAML reader
+(`talkdem.yaml_input`: no alias bomb, no duplicate key at any depth), every field has the type it must have
+(a key given with no value is refused: leave it out for its default), and the grid is bounded
+(`MAX_RUNS` runs, `MAX_SHARDS` shards per run), so that a mistake is one line naming the file, the field's path
+(`strategies[0].name`) and what was expected, never an exception from deeper down.
 """
 
 from __future__ import annotations
@@ -28,13 +34,17 @@ from __future__ import annotations
 import argparse
 import difflib
 import functools
+import math
 import re
+import reprlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 __all__ = [
+    "MAX_RUNS",
+    "MAX_SHARDS",
     "MODEL_ARGS",
     "PLANNER_ARGS",
     "STRATEGY_ARGS",
@@ -68,6 +78,10 @@ _MODEL_KEYS = ("model", "backend", "label", "args", "model_args", "ray")
 _STRATEGY_KEYS = ("name", "label", "args")
 _RAY_KEYS = ("num_cpus", "num_gpus")
 _LABEL = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
+MAX_RUNS = 1_000
+"""Runs (models x strategies) a spec may expand into: each is checked by `talkdem run`'s own planning."""
+MAX_SHARDS = 10_000
+"""Shards per run a spec may ask for (each is a folder and a job; a run has at most 4,800 episodes)."""
 LOCAL_BACKENDS = ("hf", "llamacpp")
 """Backends that compute in the worker's own process: `--threads` applies, and a Ray actor reserves that many
 CPUs."""
@@ -157,10 +171,11 @@ def _fail(path: Path, key: str, message: str) -> SweepSpecError:
 
 def _unknown_keys(path: Path, key: str, data: Mapping[str, Any], allowed: Sequence[str]) -> None:
     for name in data:
-        if name not in allowed:
+        if not isinstance(name, str) or name not in allowed:
+            shown = name if isinstance(name, str) and len(name) <= 40 else _shown(name)
             close = difflib.get_close_matches(str(name), allowed, n=1)
             hint = f" (did you mean '{close[0]}'?)" if close else ""
-            raise _fail(path, f"{key}{name}", f"unknown key{hint}; expected one of {', '.join(allowed)}")
+            raise _fail(path, f"{key}{shown}", f"unknown key{hint}; expected one of {', '.join(allowed)}")
 
 
 def _mapping(path: Path, key: str, value: object) -> Mapping[str, Any]:
@@ -173,8 +188,22 @@ def _kind(value: object) -> str:
     if value is None:
         return "nothing"
     return {bool: "true/false", int: "a number", float: "a number", str: "a string", list: "a list"}.get(
-        type(value), "a mapping" if isinstance(value, Mapping) else type(value).__name__
+        type(value), "a mapping" if isinstance(value, Mapping) else f"a {type(value).__name__}"
     )
+
+
+_SHOWN = reprlib.Repr()
+_SHOWN.maxstring, _SHOWN.maxother, _SHOWN.maxlist, _SHOWN.maxdict, _SHOWN.maxlevel = 40, 40, 4, 4, 2
+
+
+def _shown(value: object) -> str:
+    """`value` as a message shows it: short, whatever the spec holds (a long string, a big nested list)."""
+    return _SHOWN.repr(value)
+
+
+def _scalar(value: object) -> bool:
+    """A value a `talkdem run` option or a backend's option can take: text or a number."""
+    return isinstance(value, str | int | float) and not isinstance(value, bool)
 
 
 def _text(path: Path, key: str, value: object) -> str:
@@ -190,9 +219,15 @@ def _label(path: Path, key: str, value: object) -> str:
     return text
 
 
-def _positive(path: Path, key: str, value: object) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise _fail(path, key, f"expected a whole number of at least 1, got {value!r}")
+def _positive(path: Path, key: str, value: object, most: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= most:
+        raise _fail(path, key, f"expected a whole number from 1 to {most:,}, got {_shown(value)}")
+    return value
+
+
+def _list(path: Path, key: str, value: object, what: str) -> list[Any]:
+    if not isinstance(value, list) or not value:
+        raise _fail(path, key, f"expected a non-empty list of {what}, got {_kind(value)}")
     return value
 
 
@@ -212,9 +247,10 @@ def _flags(path: Path, key: str, values: Mapping[str, Any], names: Mapping[str, 
             given = [flag] if value else []
         else:
             items = value if isinstance(value, list) and isinstance(action, argparse._AppendAction) else [value]
-            if not items or any(isinstance(v, bool | list | dict) or v is None for v in items):
+            if not items or not all(_scalar(v) for v in items):
                 plural = "a value or a list of values" if isinstance(action, argparse._AppendAction) else "a value"
-                raise _fail(path, where, f"expected {plural}, got {_kind(value)}")
+                wrong = next((v for v in items if not _scalar(v)), value)
+                raise _fail(path, where, f"expected {plural} (text or a number), got {_kind(wrong)}")
             given = [part for item in items for part in (flag, str(item))]
         try:
             run_parser().parse_args(["run", *given])
@@ -225,14 +261,16 @@ def _flags(path: Path, key: str, values: Mapping[str, Any], names: Mapping[str, 
     return argv
 
 
-def _conditions(path: Path, value: object) -> str | None:
+def _conditions(path: Path, value: object) -> str:
     from talkdem.schema import parse_conditions
 
-    if value is None:
-        return None
+    expected = "expected a list of conditions (clean, PATTERN, PATTERN:LEVEL; leave the key out for all 16)"
     items = value.split(",") if isinstance(value, str) else value
-    if not isinstance(items, list) or not items or not all(isinstance(c, str) for c in items):
-        raise _fail(path, "conditions", f"expected a list of conditions (clean, PATTERN, PATTERN:LEVEL), got {value!r}")
+    if not isinstance(items, list) or not items:
+        raise _fail(path, "conditions", f"{expected}, got {_kind(value)}")
+    for index, item in enumerate(items):
+        if not isinstance(item, str):
+            raise _fail(path, f"conditions[{index}]", f"expected a condition (a string), got {_kind(item)}")
     text = ",".join(c.strip() for c in items)
     try:
         parse_conditions(text)
@@ -242,10 +280,10 @@ def _conditions(path: Path, value: object) -> str | None:
 
 
 def _tasks(path: Path, value: object) -> int | None:
-    if value is None or value == "all":
+    if isinstance(value, str) and value == "all":
         return None
     if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise _fail(path, "tasks", f"expected a number of tasks (at least 1) or 'all', got {value!r}")
+        raise _fail(path, "tasks", f"expected a number of tasks (at least 1) or 'all', got {_shown(value)}")
     return value
 
 
@@ -262,19 +300,17 @@ class _Model:
 def _models(path: Path, value: object) -> list[_Model]:
     from talkdem.llm.interface.registry import BACKENDS
 
-    if not isinstance(value, list) or not value:
-        raise _fail(path, "models", f"expected a non-empty list of models, got {_kind(value)}")
     models = []
-    for index, entry in enumerate(value):
+    for index, entry in enumerate(_list(path, "models", value, "models")):
         key = f"models[{index}]"
         entry = {"model": entry} if isinstance(entry, str) else _mapping(path, key, entry)
         _unknown_keys(path, f"{key}.", entry, _MODEL_KEYS)
         if "model" not in entry:
             raise _fail(path, f"{key}.model", "missing: name the model (`talkdem models`, a file, an id or a name)")
         model = _text(path, f"{key}.model", entry["model"])
-        backend = entry.get("backend", "llamacpp")
+        backend = _text(path, f"{key}.backend", entry.get("backend", "llamacpp"))
         if backend not in BACKENDS:
-            raise _fail(path, f"{key}.backend", f"expected one of {', '.join(BACKENDS.names())}, got {backend!r}")
+            raise _fail(path, f"{key}.backend", f"expected one of {', '.join(BACKENDS.names())}, got {_shown(backend)}")
         default_label = Path(model).name.removesuffix(".gguf")
         label = _label(path, f"{key}.label", entry.get("label", default_label))
         argv = _flags(path, f"{key}.args.", _mapping(path, f"{key}.args", entry.get("args", {})), _same(MODEL_ARGS))
@@ -283,8 +319,13 @@ def _models(path: Path, value: object) -> list[_Model]:
         _unknown_keys(path, f"{key}.ray.", ray, _RAY_KEYS)
         resources: dict[str, float] = {}
         for name, amount in ray.items():
-            if isinstance(amount, bool) or not isinstance(amount, int | float) or amount < 0:
-                raise _fail(path, f"{key}.ray.{name}", f"expected a number of at least 0, got {amount!r}")
+            if (
+                isinstance(amount, bool)
+                or not isinstance(amount, int | float)
+                or not math.isfinite(amount)
+                or amount < 0
+            ):
+                raise _fail(path, f"{key}.ray.{name}", f"expected a number of at least 0, got {_shown(amount)}")
             resources[name] = float(amount)
         models.append(
             _Model(index, model, str(backend), label, ("--model", model, "--backend", backend, *argv), resources)
@@ -298,11 +339,13 @@ def _model_args(path: Path, key: str, backend: str, value: object) -> list[str]:
 
     argv: list[str] = []
     for name, setting in _mapping(path, key, value).items():
-        where = f"{key}.{name}"
+        where = f"{key}.{name if isinstance(name, str) and len(name) <= 40 else _shown(name)}"
+        if not isinstance(name, str) or not name.isidentifier():  # `NAME=VALUE` must split back as it was given
+            raise _fail(path, where, f"expected an option name of the {backend} backend, got {_kind(name)}")
         if name == "threads":
             raise _fail(path, where, "set by the executor (`talkdem sweep --threads`, each worker its share of CPUs)")
-        if isinstance(setting, list | dict) or setting is None:
-            raise _fail(path, where, f"expected a value, got {_kind(setting)}")
+        if not (_scalar(setting) or isinstance(setting, bool)):
+            raise _fail(path, where, f"expected a value (text, a number or true/false), got {_kind(setting)}")
         text = ("true" if setting else "false") if isinstance(setting, bool) else str(setting)
         try:
             model_args(backend, [f"{name}={text}"])
@@ -320,18 +363,19 @@ def _strategies(path: Path, value: object) -> list[tuple[str, str, tuple[str, ..
     """(name, label, argv, key) per strategy entry."""
     from talkdem.planner.strategies import STRATEGIES
 
-    if not isinstance(value, list) or not value:
-        raise _fail(path, "strategies", f"expected a non-empty list of strategies, got {_kind(value)}")
     strategies = []
-    for index, entry in enumerate(value):
+    for index, entry in enumerate(_list(path, "strategies", value, "strategies")):
         key = f"strategies[{index}]"
         entry = {"name": entry} if isinstance(entry, str) else _mapping(path, key, entry)
         _unknown_keys(path, f"{key}.", entry, _STRATEGY_KEYS)
-        name = entry.get("name")
+        if "name" not in entry:
+            raise _fail(path, f"{key}.name", f"missing: one of {', '.join(STRATEGIES.names())}")
+        name = _text(path, f"{key}.name", entry["name"])
         if name not in STRATEGIES:
-            close = difflib.get_close_matches(str(name), STRATEGIES.names(), n=1)
+            close = difflib.get_close_matches(name, STRATEGIES.names(), n=1)
             hint = f" (did you mean '{close[0]}'?)" if close else ""
-            raise _fail(path, f"{key}.name", f"expected one of {', '.join(STRATEGIES.names())}, got {name!r}{hint}")
+            expected = f"expected one of {', '.join(STRATEGIES.names())}, got {_shown(name)}{hint}"
+            raise _fail(path, f"{key}.name", expected)
         label = _label(path, f"{key}.label", entry.get("label", name))
         argv = _flags(path, f"{key}.args.", _mapping(path, f"{key}.args", entry.get("args", {})), _same(STRATEGY_ARGS))
         strategies.append((str(name), label, ("--strategy", str(name), *argv), key))
@@ -340,38 +384,29 @@ def _strategies(path: Path, value: object) -> list[tuple[str, str, tuple[str, ..
 
 def load_sweep(path: Path, out: Path | None = None) -> SweepSpec:
     """Read and validate the spec at `path` (`out`: the output root, instead of the spec's `out`)."""
-    import yaml
-
     from talkdem.cli.run import plan_run
 
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise SweepSpecError(f"{path}: no such spec file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise SweepSpecError(f"{path}: cannot read the spec ({error})") from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        where = f"line {mark.line + 1}" if mark is not None else "YAML"
-        problem = getattr(error, "problem", None) or str(error).splitlines()[0]
-        raise SweepSpecError(f"{path}: {where}: not valid YAML ({problem})") from None
-    top = _mapping(path, "(top level)", data)
+    top = _mapping(path, "(top level)", _read(path))
     _unknown_keys(path, "", top, _TOP_KEYS)
-    if out is None:
-        if "out" not in top:
-            raise _fail(path, "out", "missing: the output root of the sweep's run directories (or give --out)")
-        out = Path(_text(path, "out", top["out"]))
-    conditions = _conditions(path, top.get("conditions"))
-    tasks = _tasks(path, top.get("tasks"))
-    shards = _positive(path, "shards", top["shards"]) if "shards" in top else None
+    if "out" in top:  # checked even when --out replaces it: a wrong value is a mistake either way
+        spec_out = Path(_text(path, "out", top["out"]))
+        out = out if out is not None else spec_out
+    elif out is None:
+        raise _fail(path, "out", "missing: the output root of the sweep's run directories (or give --out)")
+    conditions = _conditions(path, top["conditions"]) if "conditions" in top else None
+    tasks = _tasks(path, top["tasks"]) if "tasks" in top else None
+    shards = _positive(path, "shards", top["shards"], MAX_SHARDS) if "shards" in top else None
     planner_argv = _flags(path, "planner.", _mapping(path, "planner", top.get("planner", {})), PLANNER_ARGS)
     react = "--planner" in planner_argv and planner_argv[planner_argv.index("--planner") + 1] == "react"
     if "models" not in top:
         raise _fail(path, "models", "missing: a list of models")
     if "strategies" not in top:
         raise _fail(path, "strategies", "missing: a list of strategies")
+    grid = len(_list(path, "models", top["models"], "models")) * len(
+        _list(path, "strategies", top["strategies"], "strategies")
+    )
+    if grid > MAX_RUNS:  # before each run is planned: every one of them is
+        raise _fail(path, "models x strategies", f"{grid:,} runs; a spec expands into at most {MAX_RUNS:,}")
     models = _models(path, top["models"])
     strategies = _strategies(path, top["strategies"])
     selection = [*(["--conditions", conditions] if conditions else []), *(["--limit", str(tasks)] if tasks else [])]
@@ -412,6 +447,29 @@ def load_sweep(path: Path, out: Path | None = None) -> SweepSpec:
                 )
             )
     return SweepSpec(path, out, tuple(runs), conditions, tasks, shards)
+
+
+def _read(path: Path) -> Any:
+    """The spec file's YAML value, read through the bounded reader (the file itself bounded first: a spec
+    is a few kilobytes, and a device or a huge file must not be read whole)."""
+    from talkdem.yaml_input import MAX_CHARS, YamlInputError, load_yaml
+
+    try:
+        with path.open("rb") as handle:
+            raw = handle.read(MAX_CHARS + 1)
+        if len(raw) > MAX_CHARS:
+            raise SweepSpecError(f"{path}: larger than {MAX_CHARS:,} bytes; a sweep spec is a few kilobytes")
+        text = raw.decode("utf-8")
+    except FileNotFoundError:
+        raise SweepSpecError(f"{path}: no such spec file") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise SweepSpecError(f"{path}: cannot read the spec ({error})") from None
+    try:
+        return load_yaml(text)
+    except YamlInputError as error:
+        where = f"line {error.line}" if error.line is not None else "YAML"
+        problem = f"not valid YAML ({error.problem})" if error.syntax else error.problem
+        raise SweepSpecError(f"{path}: {where}: {problem}") from None
 
 
 def select_runs(spec: SweepSpec, names: Sequence[str]) -> SweepSpec:

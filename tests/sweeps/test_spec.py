@@ -85,7 +85,10 @@ MODEL_ARGS = "  - smollm2-135m-instruct\n"
         ("{n_ctx: 0}", r"models\[0\]\.model_args\.n_ctx: model arg n_ctx='0': the llamacpp backend's 'n_ctx' takes"),
         ("{tokenizer: x}", r"models\[0\]\.model_args\.tokenizer: .*the llamacpp backend has no such option"),
         ("{threads: 2}", r"models\[0\]\.model_args\.threads: set by the executor"),
-        ("{n_ctx: [1]}", r"models\[0\]\.model_args\.n_ctx: expected a value, got a list"),
+        (
+            "{n_ctx: [1]}",
+            r"models\[0\]\.model_args\.n_ctx: expected a value \(text, a number or true/false\), got a list",
+        ),
         ("[n_ctx]", r"models\[0\]\.model_args: expected a mapping"),
     ],
 )
