@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -65,6 +66,15 @@ def run(args: argparse.Namespace) -> int:
     if args.labels is not None and not args.labels.is_file():  # before minutes of scoring, not after
         raise FileNotFoundError(f"{args.labels}: no such labels file (export one from `talkdem view`)")
     runs = score_runs(args.run_dirs, bootstrap=args.bootstrap)
+    for scored in runs:
+        orphans = scored.scores.without_clean_twin
+        if orphans:  # the report shows retention as '–' for this run: say why, once
+            print(
+                f"talkdem report: {scored.run_dir}: retention left out: {len(orphans)} pattern episode(s) have no "
+                f"clean episode of their task in the run (e.g. {orphans[0]}); include clean in the run's "
+                "conditions to measure it",
+                file=sys.stderr,
+            )
     extra = []
     if args.labels is not None:
         from talkdem.viewer.labels import label_tables, read_labels

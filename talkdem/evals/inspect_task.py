@@ -23,6 +23,7 @@ from inspect_ai.scorer import CORRECT, INCORRECT, Score, Target, accuracy, score
 from inspect_ai.solver import Generate, Solver, TaskState, solver
 from inspect_ai.tool import Tool, tool
 
+from talkdem.evals.task_args import DEFAULT_CONDITIONS, check_task_args
 from talkdem.sim.observation import observation_of
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorEpisode, execute_plan, load_simulator
 from talkdem.tasks import get_task
@@ -108,15 +109,14 @@ def goal_check(max_steps: int = DEFAULT_MAX_STEPS) -> Any:
 
 @task  # type: ignore[untyped-decorator,unused-ignore]
 def talkdem(
-    conditions: str | list[str] = "clean", limit: int | None = None, max_steps: int = DEFAULT_MAX_STEPS
+    conditions: str | list[str] = DEFAULT_CONDITIONS, limit: int | None = None, max_steps: int = DEFAULT_MAX_STEPS
 ) -> Task:
     """The episodes of `talkdem episodes --conditions C --limit N`, one sample each (`-T conditions=a,b`
-    reaches here as a list: inspect splits task arguments at commas)."""
-    from talkdem.env import select
-
-    if isinstance(conditions, list):
-        conditions = ",".join(str(c) for c in conditions)
-
+    reaches here as a list: inspect splits task arguments at commas). Arguments are checked here, where
+    `-T` values enter (any YAML value may: `-T max_steps=abc` is a string), with one line naming the bad one."""
+    args = check_task_args(
+        {"conditions": conditions, "limit": limit, "max_steps": max_steps}, "talkdem inspect task (-T)"
+    )
     samples = [
         Sample(
             input=instruction.text,
@@ -130,11 +130,11 @@ def talkdem(
                 "level": instruction.condition.level,
             },
         )
-        for instruction in select(conditions, limit)
+        for instruction in args.episodes()
     ]
     return Task(
         dataset=MemoryDataset(samples, name="talkdem"),
-        solver=talkdem_agent(max_steps),
-        scorer=goal_check(max_steps),
-        metadata={"conditions": conditions, "limit": limit, "max_steps": max_steps},
+        solver=talkdem_agent(args.max_steps),
+        scorer=goal_check(args.max_steps),
+        metadata={"conditions": args.conditions, "limit": args.limit, "max_steps": args.max_steps},
     )

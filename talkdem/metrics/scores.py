@@ -31,6 +31,7 @@ __all__ = [
     "compare_retention",
     "compute_scores",
     "error_cases",
+    "missing_clean_twins",
     "score_plans",
     "score_predictions",
     "score_run",
@@ -73,6 +74,9 @@ class Scores:
     intervals: dict[str, tuple[float, float]]
     """`sr/<key>` and `retention/<key>` -> 95% percentile bootstrap interval over tasks."""
     episodes: tuple[EpisodeResult, ...] = field(repr=False, compare=False, default=())
+    without_clean_twin: tuple[str, ...] = ()
+    """Pattern episodes whose task has no clean episode in the same run, when they left retention out
+    (`compute_scores` with `retention=None`): `retention` is None for this reason, not because none was asked."""
 
     def error_counts(self, pattern: str | None = None) -> dict[ErrorType, int]:
         counts = dict.fromkeys(ErrorType, 0)
@@ -131,14 +135,21 @@ def _clean(value: float) -> float | None:
     return None if math.isnan(value) else float(value)
 
 
-def _check_clean_twins(results: Sequence[EpisodeResult]) -> None:
+def missing_clean_twins(results: Sequence[EpisodeResult]) -> list[str]:
+    """The pattern episodes whose task has no clean episode in the same run: retention cannot be measured
+    while there is one (`compute_scores` refuses them or, by default, leaves retention out)."""
     have_clean = {(r.run, r.task_id) for r in results if r.condition.pattern == CLEAN}
     patterned = [r for r in results if r.condition.pattern != CLEAN]
-    orphans = [r.instruction_id for r in patterned if (r.run, r.task_id) not in have_clean]
+    return [r.instruction_id for r in patterned if (r.run, r.task_id) not in have_clean]
+
+
+def _check_clean_twins(results: Sequence[EpisodeResult]) -> None:
+    orphans = missing_clean_twins(results)
     if orphans:
+        # Names the Python argument: the CLI never gets here (`talkdem report` scores such runs without retention).
         raise ScoringInputError(
             "retention needs the clean instruction of each task; these pattern ids have no clean twin "
-            "(add `<task_id>:clean` plans, or pass retention=False)",
+            "(add `<task_id>:clean` plans, or call with retention=False to score without retention)",
             orphans,
         )
 
@@ -163,18 +174,26 @@ def error_cases(results: Sequence[EpisodeResult]) -> tuple[ClassifiedError, ...]
 def compute_scores(
     results: Sequence[EpisodeResult],
     *,
-    retention: bool = True,
+    retention: bool | None = None,
     bootstrap: int = 1000,
     seed: int = BOOTSTRAP_SEED,
     classify_errors: bool = True,
 ) -> Scores:
     """Every measurement of `results` (episodes of one run, or pooled runs told apart by `run`).
-    `bootstrap`: 0 (no intervals) or at least `MIN_RESAMPLES` resamples; anything else is a `ValueError`."""
+    `bootstrap`: 0 (no intervals) or at least `MIN_RESAMPLES` resamples; anything else is a `ValueError`.
+    `retention`: True measures it and refuses pattern episodes without their clean twin; False leaves it out;
+    None (the default, what `talkdem report` uses) measures it when every pattern episode has its clean twin
+    and otherwise leaves it out, naming those episodes in `without_clean_twin` (a run of pattern conditions
+    only, `--conditions intrusion:3`, still has its success rates)."""
     bootstrap = check_resamples(bootstrap)
     if not results:
         raise ScoringInputError("no episodes to score (the input is empty)", [])
+    orphans: list[str] = []
     if retention:
         _check_clean_twins(results)
+    elif retention is None:
+        orphans = missing_clean_twins(results)
+        retention = not orphans
     rows, matrix = outcome_matrix(results)
     point = measures(matrix)
     values = dict(zip(MEASURES, point.tolist(), strict=True))
@@ -210,6 +229,7 @@ def compute_scores(
         errors=error_cases(results) if classify_errors else (),
         intervals=intervals,
         episodes=tuple(results),
+        without_clean_twin=tuple(orphans),
     )
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from metrics_helpers import BOOK, LAMP, clean_id, pattern_id, reference
 
-from talkdem.metrics import ScoringInputError, score_plans, score_predictions
+from talkdem.metrics import ScoringInputError, compute_scores, execute_plans, score_plans, score_predictions
 
 
 def test_empty_input() -> None:
@@ -65,3 +65,18 @@ def test_pairs_by_id_not_position() -> None:
     a = score_predictions([reference(BOOK), ["done"]], [clean_id(BOOK), clean_id(LAMP)], bootstrap=0)
     b = score_predictions([["done"], reference(BOOK)], [clean_id(LAMP), clean_id(BOOK)], bootstrap=0)
     assert a.flat() == b.flat()
+
+
+def test_by_default_retention_is_left_out_when_a_pattern_has_no_clean_twin() -> None:
+    # what `talkdem report` does for a run of pattern conditions only: success rates stand, retention is
+    # None and the episodes that left it out are named (the report says so); a full pairing still measures it
+    orphan = pattern_id(LAMP, "intrusion", 2)
+    results = execute_plans({clean_id(BOOK): reference(BOOK), orphan: reference(LAMP)})
+    scores = compute_scores(results, bootstrap=0)
+    assert scores.retention is None and scores.without_clean_twin == (orphan,)
+    assert scores.success_rate["intrusion:2"] == 1.0
+    paired = execute_plans({clean_id(LAMP): reference(LAMP), orphan: reference(LAMP)})
+    scores = compute_scores(paired, bootstrap=0)
+    assert scores.retention is not None and scores.retention["intrusion:2"] == 1.0 and not scores.without_clean_twin
+    with pytest.raises(ScoringInputError, match="call with retention=False"):
+        compute_scores(results, retention=True, bootstrap=0)
