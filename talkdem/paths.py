@@ -7,7 +7,9 @@ download or dataset folder.
 
 from __future__ import annotations
 
+import hashlib
 import os
+import re
 from pathlib import Path
 
 __all__ = [
@@ -15,12 +17,14 @@ __all__ = [
     "CACHE_DIR_ENV",
     "DATA_DIR_ENV",
     "FLOORPLANS_DIR_ENV",
+    "MAX_STEM",
     "SHARED_DATA_ENV",
     "alfred_dir",
     "bundled_dir",
     "cache_dir",
     "data_dir",
     "evaluate_module_dir",
+    "file_stem",
     "floorplans_dir",
     "repo_root",
     "shared_data_dir",
@@ -92,3 +96,20 @@ def cache_dir() -> Path:
     else `~/.cache/talkdem`."""
     override = os.environ.get(CACHE_DIR_ENV)
     return Path(override) if override else Path.home() / ".cache" / "talkdem"
+
+
+MAX_STEM = 100
+"""The longest file-name stem `file_stem` gives: file systems allow 255 bytes per name, and callers add to a
+stem (`heatmap_`, `.json`, a hash to keep two stems apart)."""
+
+
+def file_stem(text: str, fallback: str) -> str:
+    """A file-name-safe stem of `text` (a model or run name): letters, digits, `.`, `_` and `-`, every other run
+    of characters as `_`, no leading or trailing `_` or `.` (`fallback` when nothing is left), and at most
+    `MAX_STEM` characters. A longer stem keeps its start and ends with 8 hex digits of the whole text's
+    sha256, so long names that share a start still get different stems."""
+    stem = re.sub(r"[^A-Za-z0-9._-]+", "_", text).strip("_.") or fallback
+    if len(stem) > MAX_STEM:
+        digest = hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+        stem = f"{stem[: MAX_STEM - 9].rstrip('_.-')}-{digest}"
+    return stem

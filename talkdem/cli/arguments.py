@@ -7,7 +7,15 @@ import argparse
 import re
 from pathlib import Path
 
-__all__ = ["bootstrap_count", "folder_path", "hub_repo_id", "non_negative_int", "page_link", "positive_int"]
+__all__ = [
+    "bootstrap_count",
+    "file_path",
+    "folder_path",
+    "hub_repo_id",
+    "non_negative_int",
+    "page_link",
+    "positive_int",
+]
 
 # The Hub's rule for repository ids: ORG/NAME, letters, digits, '-', '_', '.', no leading/trailing '-'/'.'.
 _REPO_PART = r"[A-Za-z0-9](?:[A-Za-z0-9._-]{0,94}[A-Za-z0-9])?"
@@ -57,6 +65,13 @@ def folder_path(text: str) -> Path:
     return Path(text)
 
 
+def file_path(text: str) -> Path:
+    """An output file: `''` is refused (as a Path it is `.`, the current folder, which cannot be written as a file)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("must name a file, got an empty string")
+    return Path(text)
+
+
 def hub_repo_id(text: str) -> str:
     """`ORG/NAME` as the Hugging Face Hub accepts it."""
     if not _REPO_ID.fullmatch(text) or ".." in text or "--" in text:
@@ -66,21 +81,13 @@ def hub_repo_id(text: str) -> str:
     return text
 
 
-_SCHEME = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*:")
-
-
 def page_link(text: str) -> str:
-    """A link a published page may carry: relative (`viewer/index.html`, `../viewer/`) or http(s); never an
-    absolute path of this machine (it would not resolve anywhere else and tells where files live)."""
-    value = text.strip()
-    if not value:
-        raise argparse.ArgumentTypeError("the link is empty")
-    if _SCHEME.match(value):  # also `C:\...`: a drive letter reads as a scheme
-        allowed = value.lower().startswith(("http://", "https://"))
-    else:
-        allowed = not value.startswith(("/", "~", "\\"))
-    if not allowed:
-        raise argparse.ArgumentTypeError(
-            f"'{text}' is not a relative or http(s) link (e.g. viewer/index.html, written by `talkdem view --out`)"
-        )
-    return value
+    """A link a published page may carry: relative (`viewer/index.html`, `../viewer/`) or http(s), as a browser
+    reads it (`talkdem.report.links`); never a script, nor an absolute path of this machine (it would not resolve
+    anywhere else and tells where files live)."""
+    from talkdem.report.links import UnsafeLinkError, safe_href
+
+    try:
+        return safe_href(text)
+    except UnsafeLinkError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None

@@ -8,7 +8,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import non_negative_int, positive_int
+from talkdem.cli.arguments import file_path, non_negative_int, positive_int
 
 __all__ = ["register"]
 
@@ -24,7 +24,7 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("--seed", type=non_negative_int, default=0, help="random seed (default: 0)")
     parser.add_argument(
-        "--out", type=Path, default=Path("error_sample.json"), help="sample file to write (default: %(default)s)"
+        "--out", type=file_path, default=Path("error_sample.json"), help="sample file to write (default: %(default)s)"
     )
     parser.set_defaults(handler=run)
 

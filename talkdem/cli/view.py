@@ -7,7 +7,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from talkdem.cli.arguments import positive_int
+from talkdem.cli.arguments import folder_path, positive_int
 
 __all__ = ["register"]
 
@@ -18,7 +18,7 @@ def register(subparsers: Any) -> None:
     )
     parser.add_argument("run_dirs", nargs="+", type=Path, metavar="RUN_DIR", help="run directories to show")
     parser.add_argument(
-        "--out", type=Path, default=Path("talkdem_viewer"), help="folder to write (default: %(default)s)"
+        "--out", type=folder_path, default=Path("talkdem_viewer"), help="folder to write (default: %(default)s)"
     )
     parser.add_argument(
         "--sample",

@@ -21,6 +21,7 @@ from talkdem.leaderboard.page import SUBMIT_STEPS, render_html
 from talkdem.leaderboard.ranking import RANK_KEY, rank_records
 from talkdem.leaderboard.records import RESULTS_SCHEMA, results_record
 from talkdem.leaderboard.validate import ResultsFileError, load_results_file
+from talkdem.paths import file_stem
 from talkdem.report.coverage import Coverage
 from talkdem.report.runs import ScoredRun, strategy_label
 from talkdem.report.tables import markdown_cell, markdown_text
@@ -45,7 +46,8 @@ _SAFE_ID = re.compile(r"[A-Za-z0-9_-]{1,64}")
 
 
 def _slug(text: str) -> str:
-    return re.sub(r"[^A-Za-z0-9._-]+", "_", text).strip("_.") or "model"
+    # Bounded (`file_stem`): a model with a very long name still gets a folder the file system takes.
+    return file_stem(text, "model")
 
 
 def results_path(record: dict[str, Any]) -> Path:

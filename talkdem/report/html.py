@@ -8,6 +8,7 @@ import html
 import re
 from collections.abc import Sequence
 
+from talkdem.report.links import safe_href
 from talkdem.report.plots import PlotFile
 from talkdem.report.public import public_model
 from talkdem.report.runs import ScoredRun
@@ -136,7 +137,9 @@ def _figure(plot: PlotFile) -> str:
 
 
 def viewer_link(href: str) -> str:
-    """A paragraph linking to the episode viewer (`talkdem view`); `href` is escaped."""
+    """A paragraph linking to the episode viewer (`talkdem view`); `href` is checked as a browser will read it
+    (`talkdem.report.links.safe_href`: relative or http(s), never a script) and escaped."""
+    href = safe_href(href)
     return (
         f'<p id="viewer-link"><a href="{html.escape(href, quote=True)}">Browse every episode</a> in the viewer: '
         "instructions, plans step by step with the simulator's feedback, and the error labelling.</p>"

@@ -13,6 +13,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import PurePosixPath, PureWindowsPath
 from typing import Any
 
+from talkdem.paths import file_stem
 from talkdem.runs import RunHeader
 
 __all__ = ["is_machine_path", "public_config", "public_header", "public_model", "unique_stems"]
@@ -75,7 +76,8 @@ def public_header(header: RunHeader) -> dict[str, Any]:
 
 
 def _slug(text: str) -> str:
-    return re.sub(r"[^A-Za-z0-9._-]+", "_", text).strip("_.") or "run"
+    # Bounded: a run scored with a long `--model` still gets file names the file system takes.
+    return file_stem(text, "run")
 
 
 def unique_stems(labels: Sequence[str]) -> list[str]:

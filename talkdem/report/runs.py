@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import hashlib
+import json
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
@@ -19,6 +22,8 @@ __all__ = [
     "REFERENCE_STRATEGY",
     "STRATEGY_LABELS",
     "ScoredRun",
+    "run_key",
+    "run_keys",
     "run_labels",
     "score_runs",
     "slug",
@@ -51,6 +56,11 @@ class ScoredRun:
     header: RunHeader
     label: str
     scores: Scores
+
+    @property
+    def key(self) -> str:
+        """The run's key (`run_key`): what labels files and error samples name it by."""
+        return run_key(self.run_dir, self.header)
 
     @property
     def model(self) -> str:
@@ -94,12 +104,12 @@ class ScoredRun:
 
 
 def score_runs(run_dirs: Sequence[Path], *, bootstrap: int = 1000, seed: int = BOOTSTRAP_SEED) -> list[ScoredRun]:
-    """Score each run directory; labels (`model / strategy`) are made unique with a `#n` suffix."""
+    """Score each run directory; labels (`model / strategy`) are made unique with the run's key (`run_labels`)."""
     if not run_dirs:
         raise ValueError("no run directories given")
     runs = []
     headers = [read_header(run_dir) for run_dir in run_dirs]
-    for run_dir, header, label in zip(run_dirs, headers, run_labels(headers), strict=True):
+    for run_dir, header, label in zip(run_dirs, headers, run_labels(run_dirs, headers), strict=True):
         scores = compute_scores(results_from_run(run_dir, run=label), bootstrap=bootstrap, seed=seed)
         runs.append(ScoredRun(run_dir, header, label, scores))
     return runs
@@ -117,14 +127,51 @@ def _setting_of(header: RunHeader) -> str:
     return strategy if clarify == "none" else f"{strategy} + ask ({clarify})"
 
 
-def run_labels(headers: Sequence[RunHeader]) -> list[str]:
-    """`model / strategy` per run, made unique with a `#n` suffix in the order given (the report, the viewer
-    and the error sample name runs alike, so a labels file made in the viewer matches the report's runs)."""
-    labels = []
-    used: dict[str, int] = {}
-    for header in headers:
-        # Labels are published (tables, legends, file names): a model file is named by its file name.
-        base = f"{public_model(header.model)['name'] or 'unknown model'} / {_setting_of(header)}"
-        used[base] = used.get(base, 0) + 1
-        labels.append(base if used[base] == 1 else f"{base} #{used[base]}")
+def run_key(run_dir: Path, header: RunHeader) -> str:
+    """8 hex digits naming a run for good: a hash of what a run keeps for life (its folder's name and the name
+    of the folder holding it, model, planner, strategy, prompt version, start time, shard and clarification
+    mode; not what a resume changes), the same whichever runs it is shown with and in whatever order. Labels
+    made in the viewer are matched to the report's runs by it, never by the display label (which depends on
+    the runs shown beside it). The parent folder's name tells apart a run and its extension kept beside it
+    (`results/baseline/X` holds level 3 of `results/baseline/levels/X`, with the same header otherwise)."""
+    identity = {
+        "folder": "/".join(run_dir.resolve().parts[-2:]),
+        "model": header.model,
+        "planner": header.planner,
+        "strategy": header.strategy,
+        "prompt_version": header.prompt_version,
+        "created": header.created,
+        "shard": header.config.get("shard"),
+        "clarify": header.config.get("clarify"),
+    }
+    return hashlib.sha256(json.dumps(identity, sort_keys=True, default=str).encode()).hexdigest()[:8]
+
+
+def run_keys(run_dirs: Sequence[Path], headers: Sequence[RunHeader]) -> list[str]:
+    """`run_key` of each run; one run given twice (the same folder, or a copy of it under the same two folder
+    names) is refused: its episodes would count twice and its labels could not be told apart."""
+    keys = [run_key(run_dir, header) for run_dir, header in zip(run_dirs, headers, strict=True)]
+    first: dict[str, Path] = {}
+    for run_dir, key in zip(run_dirs, keys, strict=True):
+        if key in first:
+            raise ValueError(
+                f"{run_dir}: the same run as {first[key]} (same folder names and header); give each run once"
+            )
+        first[key] = run_dir
+    return keys
+
+
+def run_labels(run_dirs: Sequence[Path], headers: Sequence[RunHeader]) -> list[str]:
+    """`model / strategy` per run; runs whose labels would be the same get their key in brackets
+    (`model / CARE [1a2b3c4d]`), so a label never depends on the order the runs are given in (the report,
+    the viewer and the error sample name runs alike)."""
+    keys = run_keys(run_dirs, headers)
+    # Labels are published (tables, legends, file names): a model file is named by its file name.
+    labels = [f"{public_model(h.model)['name'] or 'unknown model'} / {_setting_of(h)}" for h in headers]
+    counts = Counter(labels)
+    labels = [f"{label} [{key}]" if counts[label] > 1 else label for label, key in zip(labels, keys, strict=True)]
+    if len(set(labels)) < len(labels):
+        # A suffixed label now equals one a run had from the start (a strategy named like a suffixed label):
+        # every label takes its key. Suffixes have one length and keys are distinct, so no two can be equal.
+        labels = [f"{label} [{key}]" for label, key in zip(labels, keys, strict=True)]
     return labels

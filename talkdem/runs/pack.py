@@ -49,7 +49,7 @@ def _finish_interrupted(run_dir: Path, keep: str) -> None:
     plain, packed = run_dir / EPISODES_FILE, run_dir / PACKED_EPISODES_FILE
     if not (plain.is_file() and packed.is_file()):
         return
-    if read_episode_bytes(packed) != plain.read_bytes():
+    if read_episode_bytes(packed) != read_episode_bytes(plain):  # both within the limits of every reader
         raise ValueError(
             f"{run_dir}: holds both {EPISODES_FILE} and {PACKED_EPISODES_FILE} with different episodes; "
             "keep only the current one"
@@ -74,7 +74,7 @@ def pack_run(run_dir: Path, *, partial: bool = False) -> PackResult:
             size = plain.stat().st_size
             return PackResult(False, size, size, f"{progress}; --partial packs it anyway")
         read_episodes(run_dir, repair=True)
-        data = plain.read_bytes()
+        data = read_episode_bytes(plain)
         replace_file(packed, pack_bytes(data))
         plain.unlink()  # after the packed copy is on disk: a crash between the two loses nothing
         return PackResult(True, len(data), packed.stat().st_size)

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from talkdem.plans import PlanFormatError, check_plan
+from talkdem.runs.record_fields import FieldProblem, check_nested_fields
 from talkdem.schema import CLEAN, Condition, parse_instruction_id
 from talkdem.serialization import to_jsonable
 
@@ -361,12 +362,20 @@ class EpisodeRecord:
 
     @classmethod
     def from_json(cls, data: object, where: str = "episode record") -> EpisodeRecord:
-        """A validated record: field types, a plan of skill strings, and an id that agrees with the
-        task, pattern and level stored beside it (a hand-edited record is refused, not scored)."""
+        """A validated record: field types, a plan of skill strings, an id that agrees with the task, pattern
+        and level stored beside it, and the nested fields commands read (the trace's steps, goal report,
+        hazards and dialogue, the hazard summary, goal counts, notes, timings: `talkdem.runs.record_fields`),
+        so a hand-edited record is refused with one error naming `where` and the field, never scored."""
         if not isinstance(data, dict):
             raise RecordError(f"{where}: expected a JSON object, got {type(data).__name__}")
         episode_id = _field(data, "episode_id", str, where)
         where = f"{where} ({episode_id})"
+        for name in ("hazards", "goal_conditions", "trace", "notes", "timing"):
+            _field(data, name, list if name == "hazards" else dict, where, None)
+        try:  # what every command reads inside them, checked once here (see `talkdem.runs.record_fields`)
+            check_nested_fields(data)
+        except FieldProblem as exc:
+            raise RecordError(f"{where}: {exc}") from None
         record = cls(
             episode_id=episode_id,
             task_id=_field(data, "task_id", str, where),

@@ -27,8 +27,8 @@ from typing import TextIO
 from talkdem.runs.episode_files import (
     EPISODES_FILE,
     PACKED_EPISODES_FILE,
+    episode_lines,
     episodes_file,
-    read_episode_bytes,
     unpack_in_place,
 )
 from talkdem.runs.records import EpisodeRecord, RunHeader
@@ -87,26 +87,23 @@ def read_episodes(run_dir: Path, *, repair: bool = False) -> list[EpisodeRecord]
     if path is None:
         return []
     repair = repair and path.name == EPISODES_FILE
-    lines = read_episode_bytes(path).split(b"\n")
     episodes: list[EpisodeRecord] = []
     first_line: dict[str, int] = {}
     good_bytes = 0
-    for number, line in enumerate(lines, start=1):
+    unreadable: int | None = None  # the number of a line that is not JSON: an error unless nothing follows it
+    # Lines are read as they come (`episode_lines` bounds the file and each line): never the whole file at once.
+    for number, line in enumerate(episode_lines(path), start=1):
         if not line.strip():
-            good_bytes += len(line) + 1
+            good_bytes += (len(line) + 1) if unreadable is None else 0
             continue
+        if unreadable is not None:
+            raise ValueError(f"{path}, line {unreadable}: not a JSON record")
         where = f"{path}, line {number}"
         try:
             data = json.loads(line.decode("utf-8"))
         except (json.JSONDecodeError, UnicodeDecodeError):
-            if any(rest.strip() for rest in lines[number:]):
-                raise ValueError(f"{where}: not a JSON record") from None
-            # Only the last line can be cut short by a kill: drop it, the episode runs again on resume.
-            warnings.warn(f"{where}: truncated last record dropped (the run was interrupted)", stacklevel=2)
-            if repair:
-                with path.open("r+b") as handle:
-                    handle.truncate(good_bytes)
-            break
+            unreadable = number
+            continue
         except RecursionError:
             raise ValueError(f"{where}: JSON nested too deeply to read") from None
         # A complete line that is not a valid record is a hand-edit: refused, never scored.
@@ -119,6 +116,14 @@ def read_episodes(run_dir: Path, *, repair: bool = False) -> list[EpisodeRecord]
         first_line[record.episode_id] = number
         episodes.append(record)
         good_bytes += len(line) + 1
+    if unreadable is not None:
+        # Only the last line can be cut short by a kill: drop it, the episode runs again on resume.
+        warnings.warn(
+            f"{path}, line {unreadable}: truncated last record dropped (the run was interrupted)", stacklevel=2
+        )
+        if repair:
+            with path.open("r+b") as handle:
+                handle.truncate(good_bytes)
     return episodes
 
 

@@ -61,6 +61,7 @@ def _run_info(run: ViewedRun) -> dict[str, Any]:
     model = public_model(run.header.model)
     return {
         "label": run.label,
+        "key": run.key,
         "run_dir": run.run_dir.name,
         "model": model["name"],
         "revision": model["revision"][:12],
@@ -109,9 +110,12 @@ _ROW_FIELDS = (
 
 def _number(value: Any) -> float | None:
     """A finite number, else None (JSON has no infinity: a masked skill's -inf score shows as unknown)."""
-    if isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value):
-        return float(value)
-    return None
+    if not isinstance(value, int | float) or isinstance(value, bool):
+        return None
+    try:
+        return float(value) if math.isfinite(value) else None
+    except OverflowError:  # an integer too large for a float
+        return None
 
 
 def _top(notes: dict[str, str]) -> list[list[list[Any]]] | None:
@@ -121,7 +125,7 @@ def _top(notes: dict[str, str]) -> list[list[list[Any]]] | None:
         return None
     try:
         steps = json.loads(text)
-    except json.JSONDecodeError:
+    except (ValueError, RecursionError):  # checked when the record was read; kept safe for records made in code
         return None
     if not isinstance(steps, list):
         return None
@@ -186,6 +190,11 @@ def _detail(episode: ViewedEpisode) -> dict[str, Any]:
     }
 
 
+def _starts_with(path: Path, prefix: bytes) -> bool:
+    with path.open("rb") as handle:
+        return handle.read(len(prefix)) == prefix
+
+
 def _check_folder(out: Path) -> None:
     """Write only into a new or empty folder or one this command wrote before (its old chunks are replaced)."""
     if not out.exists():
@@ -193,29 +202,36 @@ def _check_folder(out: Path) -> None:
     if not out.is_dir():
         raise ValueError(f"{out}: exists and is not a folder")
     index = out / "data" / "index.js"
-    ours = index.is_file() and index.read_text(encoding="utf-8")[:200].startswith(_INDEX_PREFIX)
+    # Only the start is read: whatever else the folder's index.js holds, it says whether this command wrote it.
+    ours = index.is_file() and _starts_with(index, _INDEX_PREFIX.encode())
     if any(out.iterdir()) and not ours:
         raise ValueError(f"{out}: not empty and not a viewer folder written by `talkdem view` (give a new --out)")
     for old in (out / "data").glob("chunk-*.js"):
         old.unlink()
 
 
-def _sample_keys(runs: Sequence[ViewedRun], sample: dict[str, Any] | None) -> set[tuple[str, str]]:
+def _sample_keys(runs: Sequence[ViewedRun], sample: dict[str, Any] | None) -> set[tuple[int, str]]:
+    """(run position, episode id) of each sampled failure. An entry names its run by key (`run_key`), which
+    does not depend on the runs shown together or their order; samples written before keys, by label."""
     if sample is None:
         return set()
-    known = {(run.label, e.episode_id): e for run in runs for e in run.episodes}
+    by_key = {run.key: i for i, run in enumerate(runs)}
+    by_label = {run.label: i for i, run in enumerate(runs)}
+    episodes = [{e.episode_id: e for e in run.episodes} for run in runs]
     keys = set()
     for n, entry in enumerate(sample["episodes"], start=1):
-        key = (entry["run"], entry["episode_id"])
-        found = known.get(key)
-        if found is None:
+        key = entry.get("run_key") or ""
+        found_run = by_key.get(key) if key else by_label.get(entry["run"])
+        name = f"{entry['run']} / {entry['episode_id']}" + (f", run key {key}" if key else "")
+        found = episodes[found_run].get(entry["episode_id"]) if found_run is not None else None
+        if found_run is None or found is None:
             raise ValueError(
-                f"error sample: episode {n} ({key[0]} / {key[1]}) is not among the runs given "
-                "(give the runs the sample was drawn from, in the same order)"
+                f"error sample: episode {n} ({name}) is not among the runs given "
+                "(give the runs the sample was drawn from)"
             )
         if not found.in_error_analysis:
-            raise ValueError(f"error sample: episode {n} ({key[0]} / {key[1]}) is not a failure solved clean")
-        keys.add(key)
+            raise ValueError(f"error sample: episode {n} ({name}) is not a failure solved clean")
+        keys.add((found_run, entry["episode_id"]))
     return keys
 
 
@@ -245,7 +261,7 @@ def write_viewer(
     for i, episode in episodes:
         record = episode.record
         clean_row = position.get((i, f"{record.task_id}:clean:0"), -1)
-        rows.append(_row(i, episode, clean_row, (runs[i].label, episode.episode_id) in sampled))
+        rows.append(_row(i, episode, clean_row, (i, episode.episode_id) in sampled))
         if record.task_id not in tasks:
             task = get_task(record.task_id)
             tasks[record.task_id] = {
@@ -254,7 +270,7 @@ def write_viewer(
                 "reference": list(task.reference_plan),
             }
     identity = hashlib.sha256(
-        json.dumps([[r.label, r.run_dir.name, len(r.episodes)] for r in runs]).encode()
+        json.dumps([[r.label, r.key, r.run_dir.name, len(r.episodes)] for r in runs]).encode()
     ).hexdigest()[:12]
     index = {
         "schema": VIEWER_SCHEMA,

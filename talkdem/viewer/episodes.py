@@ -73,6 +73,13 @@ class ViewedRun:
     label: str
     episodes: tuple[ViewedEpisode, ...]
 
+    @property
+    def key(self) -> str:
+        """The run's key (`talkdem.report.runs.run_key`): labels and error samples name the run by it."""
+        from talkdem.report.runs import run_key
+
+        return run_key(self.run_dir, self.header)
+
 
 @dataclass(frozen=True)
 class _Executed:
@@ -97,7 +104,7 @@ def load_runs(run_dirs: Sequence[Path]) -> list[ViewedRun]:
     instructions = {i.id: i for i in load_instructions()}
     executed: dict[tuple[str, tuple[str, ...], int], _Executed] = {}
     runs = []
-    for run_dir, header, label in zip(run_dirs, headers, run_labels(headers), strict=True):
+    for run_dir, header, label in zip(run_dirs, headers, run_labels(run_dirs, headers), strict=True):
         records = read_episodes(run_dir)
         if not records:
             raise ScoringInputError(f"{run_dir}: the run has no episodes", [])

@@ -4,10 +4,12 @@ error-by-pattern table from the human labels, Cohen's kappa and the confusion ma
 A labels file (what the viewer's Export writes):
 
     {"schema": "talkdem-error-labels/1",
-     "labels": [{"run": "qwen2.5-coder-0.5b / CARE", "episode_id": "<task>:intrusion:3",
+     "labels": [{"run": "qwen2.5-coder-0.5b / CARE", "run_key": "1a2b3c4d", "episode_id": "<task>:intrusion:3",
                  "type": "subgoal_omission", "automatic": "subgoal_omission"}, ...]}
 
-`run` is the run's label as the report names it; `type` one of the six `ErrorType` values. Every entry
+`run_key` is the run's key (`talkdem.report.runs.run_key`), by which the entry is matched to a reported run:
+a display label depends on the runs shown together, a key does not (files exported before keys existed are
+matched by `run`, the run's label). `type` is one of the six `ErrorType` values. Every entry
 is checked against the runs being reported: an unknown run or episode id, an episode that did not fail
 under a pattern, an unknown type or a second label for one episode is refused with one line naming the
 file and the entry. `automatic` is what the viewer showed; the agreement is computed against the
@@ -16,7 +18,6 @@ classifier run now on the re-executed plan, so a stale file cannot misreport it.
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -71,13 +72,10 @@ def _entry_name(n: int, entry: object) -> str:
 
 def read_labels(path: Path, runs: Sequence[ScoredRun]) -> list[HumanLabel]:
     """The labels of `path`, checked against `runs` (see the module docstring)."""
+    from talkdem.viewer.json_files import read_json_file
+
     name = str(path)  # in error messages; captions name the file alone
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{name}: not JSON ({exc.msg}, line {exc.lineno})") from None
-    except UnicodeDecodeError:
-        raise ValueError(f"{name}: not UTF-8 text") from None
+    data = read_json_file(path, "a labels file")
     if not isinstance(data, dict) or data.get("schema") != LABELS_SCHEMA:
         raise ValueError(f"{name}: not a labels file (expected a JSON object with schema {LABELS_SCHEMA!r})")
     entries = data.get("labels")
@@ -86,6 +84,7 @@ def read_labels(path: Path, runs: Sequence[ScoredRun]) -> list[HumanLabel]:
     if not entries:
         raise ValueError(f"{name}: no labels (label failures in the viewer, then export)")
     by_run = {run.label: run for run in runs}
+    by_key = {run.key: run.label for run in runs}
     results = {run.label: {e.instruction_id: e for e in run.scores.episodes} for run in runs}
     known_errors = {(e.run, e.instruction_id): e.type for run in runs for e in run.scores.errors}
     types = {t.value: t for t in ErrorType}
@@ -98,7 +97,13 @@ def read_labels(path: Path, runs: Sequence[ScoredRun]) -> list[HumanLabel]:
         run, episode_id, kind = entry.get("run"), entry.get("episode_id"), entry.get("type")
         if not isinstance(run, str) or not isinstance(episode_id, str) or not isinstance(kind, str):
             raise ValueError(f"{where}: 'run', 'episode_id' and 'type' must be strings")
-        if run not in by_run:
+        key = entry.get("run_key")
+        if key is not None:
+            if not isinstance(key, str) or key not in by_key:
+                known = ", ".join(f"{label} [{k}]" for k, label in by_key.items())
+                raise ValueError(f"{where}: unknown run key {key!r} (the runs reported: {known})")
+            run = by_key[key]  # the report's label of the run, whatever the viewer showed beside it
+        elif run not in by_run:
             raise ValueError(f"{where}: unknown run '{run}' (the runs reported: {', '.join(by_run)})")
         result = results[run].get(episode_id)
         if result is None:

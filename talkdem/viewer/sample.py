@@ -10,7 +10,6 @@ sample whatever order the episodes were stored in. A condition with fewer candid
 
 from __future__ import annotations
 
-import json
 import random
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -35,6 +34,9 @@ class SampledFailure:
     """`pattern:level`."""
     automatic: ErrorType
     reason: str
+    run_key: str = ""
+    """The run's key (`talkdem.report.runs.run_key`): the sample names its runs by it (labels depend on the
+    runs shown together)."""
 
 
 @dataclass(frozen=True)
@@ -55,6 +57,7 @@ class ErrorSample:
             "episodes": [
                 {
                     "run": f.run,
+                    "run_key": f.run_key,
                     "episode_id": f.episode_id,
                     "condition": f.condition,
                     "automatic": f.automatic.value,
@@ -81,7 +84,9 @@ def sample_errors(runs: Sequence[ViewedRun], per_condition: int = 3, seed: int =
             assert episode.error is not None
             condition = str(episode.record.condition)
             by_condition.setdefault(condition, []).append(
-                SampledFailure(run.label, episode.episode_id, condition, episode.error.type, episode.error.reason)
+                SampledFailure(
+                    run.label, episode.episode_id, condition, episode.error.type, episode.error.reason, run.key
+                )
             )
         covered = {str(e.record.condition) for e in run.episodes}
         # Conditions in the benchmark's order, so the draw does not depend on which one a run stored first.
@@ -95,18 +100,35 @@ def sample_errors(runs: Sequence[ViewedRun], per_condition: int = 3, seed: int =
     return ErrorSample(seed, per_condition, tuple(r.label for r in runs), tuple(failures), tuple(short))
 
 
+_ENTRY_TEXT = ("run", "episode_id")
+_ENTRY_OPTIONAL_TEXT = ("run_key", "condition", "reason")
+
+
+def _whole(value: object, least: int) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and least <= value <= 2**31 - 1
+
+
 def read_sample(path: Path) -> dict[str, Any]:
-    """A sample file written by `talkdem sample-errors`, checked for its shape (the viewer embeds it)."""
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path}: not JSON ({exc.msg}, line {exc.lineno})") from None
+    """A sample file written by `talkdem sample-errors`, checked for its shape (the viewer embeds it): one
+    error naming the file and the field (or episode) that is wrong."""
+    from talkdem.viewer.json_files import read_json_file
+
+    data = read_json_file(path, "an error sample")
     if not isinstance(data, dict) or data.get("schema") != SAMPLE_SCHEMA:
         raise ValueError(f"{path}: not an error sample (expected a JSON object with schema {SAMPLE_SCHEMA!r})")
+    for name, least in (("seed", 0), ("per_condition", 1)):
+        if not _whole(data.get(name), least):
+            raise ValueError(f"{path}: field '{name}' must be a whole number, {least} or more, got {data.get(name)!r}")
     episodes = data.get("episodes")
     if not isinstance(episodes, list):
         raise ValueError(f"{path}: field 'episodes' must be a list")
+    types = {t.value for t in ErrorType}
     for n, entry in enumerate(episodes, start=1):
-        if not isinstance(entry, dict) or not all(isinstance(entry.get(k), str) for k in ("run", "episode_id")):
+        if not isinstance(entry, dict) or not all(isinstance(entry.get(k), str) for k in _ENTRY_TEXT):
             raise ValueError(f"{path}: episode {n}: expected an object with string fields 'run' and 'episode_id'")
+        for key in _ENTRY_OPTIONAL_TEXT:
+            if key in entry and not isinstance(entry[key], str):
+                raise ValueError(f"{path}: episode {n}: field '{key}' must be a string")
+        if "automatic" in entry and (not isinstance(entry["automatic"], str) or entry["automatic"] not in types):
+            raise ValueError(f"{path}: episode {n}: field 'automatic' must be one of {', '.join(sorted(types))}")
     return data

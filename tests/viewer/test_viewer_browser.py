@@ -125,6 +125,7 @@ def test_label_is_prefilled_saved_and_exported(session: dict[str, Any], committe
     assert exported["labels"] == [
         {
             "run": "qwen2.5-coder-0.5b / Vanilla" if row[f["run"]] == 0 else "qwen2.5-coder-0.5b / CARE",
+            "run_key": index["runs"][row[f["run"]]]["key"],  # what the report matches the label by
             "episode_id": row[f["episode_id"]],
             "condition": "object_substitution:3",
             "type": "state_interpretation",

@@ -16,7 +16,8 @@ function el(tag, attrs, text){
   return e;
 }
 function run(r){ return D.runs[r[F.run]]; }
-function key(r){ return run(r).label + '\n' + r[F.episode_id]; }
+/* Labels are kept by the run's key, not its display label (which depends on the runs shown together). */
+function key(r){ return run(r).key + '\n' + r[F.episode_id]; }
 function condition(r){ return r[F.pattern] === 'clean' ? 'clean' : r[F.pattern] + ':' + r[F.level]; }
 function conditionName(r){
   if (r[F.pattern] === 'clean') return 'Clean';
@@ -270,7 +271,7 @@ function updateProgress(){
 function exportLabels(){
   var out = [];
   rows.forEach(function(r){ var k = key(r); if (labels.hasOwnProperty(k) && labellable(r))
-    out.push({run: run(r).label, episode_id: r[F.episode_id], condition: condition(r), type: labels[k], automatic: r[F.error]}); });
+    out.push({run: run(r).label, run_key: run(r).key, episode_id: r[F.episode_id], condition: condition(r), type: labels[k], automatic: r[F.error]}); });
   var text = JSON.stringify({schema: 'talkdem-error-labels/1', viewer: D.id, sample: D.sample, exported: new Date().toISOString(), labels: out}, null, 1) + '\n';
   var area = $('export-text'); area.value = text; area.hidden = false;
   try { var url = URL.createObjectURL(new Blob([text], {type: 'application/json'}));
