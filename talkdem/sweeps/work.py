@@ -27,6 +27,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from talkdem.runs.episode_files import MAX_EPISODES_BYTES
 from talkdem.runs.records import RunHeader
 from talkdem.runs.shards import Shard, merge_runs, shard_folder, shard_of, split_run
 from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, PACKED_EPISODES_FILE, read_episodes, read_header, run_lock
@@ -93,7 +94,14 @@ def done_episodes(target: Path) -> int:
     plain, packed = target / EPISODES_FILE, target / PACKED_EPISODES_FILE
     try:
         with plain.open("rb") if plain.is_file() else gzip.open(packed, "rb") as handle:
-            return sum(block.count(b"\n") for block in iter(lambda: handle.read(1 << 20), b""))
+            lines = read = 0
+            # Counting stops where reading the run would refuse the file, so a packed bomb costs a poll at
+            # most MAX_EPISODES_BYTES of inflating (reading the run then says what is wrong).
+            for block in iter(lambda: handle.read(1 << 20), b""):
+                lines, read = lines + block.count(b"\n"), read + len(block)
+                if read > MAX_EPISODES_BYTES:
+                    break
+            return lines
     except FileNotFoundError:
         return 0
     except (OSError, EOFError, zlib.error):  # a damaged packed file: reading the run says what is wrong

@@ -130,3 +130,17 @@ def test_a_cut_gzip_file_names_the_file(tmp_path: Path) -> None:
     (run / "episodes.jsonl.gz").write_bytes(data[: len(data) // 2])
     with pytest.raises(ValueError, match=f"{run / 'episodes.jsonl.gz'}: not a readable gzip file"):
         read_episodes(run)
+
+
+def test_a_sweeps_progress_poll_stops_counting_where_reading_would_refuse(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`talkdem sweep` polls each run's episode count; on a bomb it counts no further than the limit a read
+    refuses at (here lowered to 4 MiB against 64 MiB unpacked), and never raises."""
+    from talkdem.sweeps import work
+
+    monkeypatch.setattr(work, "MAX_EPISODES_BYTES", 4 * 1024 * 1024)
+    run = _run(tmp_path / "run")
+    _bomb(run / "episodes.jsonl.gz", b" " * 1023 + b"\n", 64 * 1024 * 1024)
+    counted = work.done_episodes(run)
+    assert 4 * 1024 <= counted <= 5 * 1024  # 1 KiB lines: the 4 MiB bound plus at most one 1 MiB block
