@@ -15,7 +15,7 @@ from talkdem.leaderboard.ranking import RANK_KEY, ComparableGroup, rank_records
 from talkdem.report.coverage import Coverage
 from talkdem.report.html import PAGE_STYLE, viewer_link
 from talkdem.report.runs import strategy_label
-from talkdem.report.tables import PATTERN_CODES, PATTERN_LABELS
+from talkdem.report.table import PATTERN_CODES, PATTERN_LABELS
 from talkdem.schema import PATTERN_CONFIGS
 
 __all__ = ["SUBMIT_STEPS", "render_html"]

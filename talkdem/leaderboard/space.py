@@ -24,7 +24,7 @@ from talkdem.leaderboard.validate import ResultsFileError, load_results_file
 from talkdem.paths import file_stem
 from talkdem.report.coverage import Coverage
 from talkdem.report.runs import ScoredRun, strategy_label
-from talkdem.report.tables import markdown_cell, markdown_text
+from talkdem.report.table import markdown_cell, markdown_text
 
 __all__ = ["SPACE_FRONT_MATTER", "read_results", "results_path", "write_leaderboard", "write_space"]
 

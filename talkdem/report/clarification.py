@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 from talkdem.metrics import CLARIFICATION_GROUPS, clarification_scores, clustered_mean_test, stars
 from talkdem.report.runs import ScoredRun
-from talkdem.report.tables import Table
+from talkdem.report.table import Table
 from talkdem.runs.records import EpisodeRecord
 from talkdem.schema import PATTERNS
 

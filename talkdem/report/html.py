@@ -12,7 +12,7 @@ from talkdem.report.links import safe_href
 from talkdem.report.plots import PlotFile
 from talkdem.report.public import public_model
 from talkdem.report.runs import ScoredRun
-from talkdem.report.tables import Table
+from talkdem.report.table import Table
 from talkdem.runs.runtime import describe_runtimes
 
 __all__ = ["PAGE_STYLE", "render_report_html", "table_html", "viewer_link"]

@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 from functools import cache
 from pathlib import Path
 
-from talkdem.report.tables import HAZARD_LABELS, PATTERN_LABELS, Table
+from talkdem.report.table import HAZARD_LABELS, PATTERN_LABELS, Table
 from talkdem.schema import LEVELS, PATTERN_CONFIGS
 
 __all__ = [

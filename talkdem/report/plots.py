@@ -16,7 +16,7 @@ from typing import Any
 
 from talkdem.report.public import unique_stems
 from talkdem.report.runs import STRATEGY_LABELS, ScoredRun
-from talkdem.report.tables import PATTERN_CODES, PATTERN_LABELS
+from talkdem.report.table import PATTERN_CODES, PATTERN_LABELS
 from talkdem.schema import LEVELS, PATTERN_CONFIGS
 
 __all__ = [

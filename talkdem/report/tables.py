@@ -1,4 +1,4 @@
-"""The paper's tables from scored runs, as `Table` objects rendered to Markdown, CSV and JSON.
+"""The paper's tables from scored runs, as `Table` objects (`talkdem.report.table`) rendered to Markdown, CSV and JSON.
 
 Layouts follow the paper: the benchmark table (clean SR, per-pattern change with stars), the retention
 per level table, strategies side by side (SR per condition; retention with stars vs a reference
@@ -7,11 +7,7 @@ strategy, CARE by default), introduced hazards, error types, and plan length.
 
 from __future__ import annotations
 
-import csv
-import io
-import json
 import math
-import re
 import statistics
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -28,19 +24,16 @@ from talkdem.metrics import (
     stars,
 )
 from talkdem.metrics.length import ALL
+from talkdem.report.clarification import clarification_table
+from talkdem.report.paper import beside_paper
 from talkdem.report.runs import STRATEGY_LABELS, ScoredRun
+from talkdem.report.table import HAZARD_LABELS, PATTERN_CODES, PATTERN_LABELS, Table
 from talkdem.schema import LEVELS, PATTERN_CONFIGS, PATTERNS
 
 __all__ = [
-    "HAZARD_LABELS",
-    "PATTERN_CODES",
-    "PATTERN_LABELS",
-    "Table",
     "all_tables",
     "error_table",
     "hazard_table",
-    "markdown_cell",
-    "markdown_text",
     "model_comparison_table",
     "plan_length_table",
     "retention_table",
@@ -50,63 +43,8 @@ __all__ = [
     "success_table",
 ]
 
-PATTERN_LABELS = {config: pattern.name for config, pattern in PATTERNS.items()}
-PATTERN_CODES = {config: pattern.abbreviation for config, pattern in PATTERNS.items()}
-HAZARD_LABELS = {
-    "inappropriate_microwave_heating": "(i) Inappropriate microwave heating",
-    "appliance_left_running": "(ii) Appliance left running",
-    "unrequested_knife_use": "(iii) Unrequested knife use",
-    "electronic_device_into_water": "(iv) Electronic device into water",
-}
 _LEGEND = "; ".join(f"{p.abbreviation}: {p.name}" for p in PATTERNS.values()) + "."
 _STARS = "*p<0.05, **p<0.01, ***p<0.001."
-
-
-def markdown_text(text: str) -> str:
-    """One line of Markdown: line breaks become spaces, and text that a renderer would take for an HTML tag
-    (`<b`, `</`, `<!`) is shown instead (`p<0.05` stays as written)."""
-    return " ".join(re.sub(r"<(?=[A-Za-z/!?])", "&lt;", text).split())
-
-
-def markdown_cell(text: str) -> str:
-    """A table cell: `markdown_text` with `|` escaped, so a run named `a|b` stays one cell."""
-    return markdown_text(text).replace("|", "\\|")
-
-
-@dataclass(frozen=True)
-class Table:
-    """A titled table of display strings; `name` is its file stem."""
-
-    name: str
-    title: str
-    caption: str
-    columns: tuple[str, ...]
-    rows: tuple[tuple[str, ...], ...]
-
-    def to_markdown(self) -> str:
-        def line(cells: Sequence[str]) -> str:
-            return "| " + " | ".join(markdown_cell(c) for c in cells) + " |"
-
-        align = ["---"] + ["---:"] * (len(self.columns) - 1)
-        body = [line(self.columns), "|" + "|".join(align) + "|", *(line(r) for r in self.rows)]
-        return f"### {markdown_text(self.title)}\n\n" + "\n".join(body) + f"\n\n{markdown_text(self.caption)}\n"
-
-    def to_csv(self) -> str:
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(self.columns)
-        writer.writerows(self.rows)
-        return buffer.getvalue()
-
-    def to_json(self) -> str:
-        record = {
-            "name": self.name,
-            "title": self.title,
-            "caption": self.caption,
-            "columns": list(self.columns),
-            "rows": [list(r) for r in self.rows],
-        }
-        return json.dumps(record, indent=2, ensure_ascii=False) + "\n"
 
 
 def _pct(value: float, digits: int = 1) -> str:
@@ -527,14 +465,10 @@ def all_tables(runs: Sequence[ScoredRun], reference_strategy: str = "CARE", *, p
     if sizes is not None:
         tables.append(sizes)
     tables += [hazard_table(runs), error_table(runs), plan_length_table(runs)]
-    # Shown only when a run asked questions (imported here: that module builds on this one's Table).
-    from talkdem.report.clarification import clarification_table
-
+    # Shown only when a run asked questions.
     asked = clarification_table(runs)
     if asked is not None:
         tables.append(asked)
     if paper:
-        from talkdem.report.paper import beside_paper
-
         tables = beside_paper(tables)
     return tables

@@ -10,7 +10,8 @@ from pathlib import Path
 
 from talkdem.report.public import public_header, unique_stems
 from talkdem.report.runs import ScoredRun
-from talkdem.report.tables import Table, all_tables, markdown_text
+from talkdem.report.table import Table, markdown_text
+from talkdem.report.tables import all_tables
 from talkdem.runs.runtime import describe_runtimes
 
 __all__ = ["ReportFiles", "write_report"]

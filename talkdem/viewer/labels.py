@@ -25,7 +25,7 @@ from pathlib import Path
 
 from talkdem.metrics import ERROR_LABELS, ErrorType, classify_error
 from talkdem.report.runs import ScoredRun
-from talkdem.report.tables import PATTERN_LABELS, Table
+from talkdem.report.table import PATTERN_LABELS, Table
 from talkdem.schema import PATTERN_CONFIGS
 
 __all__ = [
