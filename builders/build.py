@@ -16,7 +16,6 @@ so the files are the same bytes whatever the number of workers.
 
 from __future__ import annotations
 
-import fcntl
 import hashlib
 import json
 import os
@@ -24,18 +23,18 @@ import re
 import sys
 import time
 import warnings
-from collections import Counter
-from collections.abc import Iterable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Iterator, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
+from builders.checkpoint import append_record, checkpoint_lock
 from builders.generation import GenerationRequest, Generator, derive_seed, get_generator
 from builders.generation.base import generate_checked
 from builders.generation.ranking import CandidateRanker, Ranker, choose, load_ranker
 from builders.interpretation import interpretation
 from builders.verification import verify
+from builders.verification.stats import MAX_ATTEMPTS, verification_stats
 from talkdem.paths import data_dir, repo_root
 from talkdem.schema import CLEAN, LEVELS, MEMORY_BANK, PATTERN_CONFIGS, TASKS, data_files, features, split_name
 from talkdem.seeds import PddlParams
@@ -43,7 +42,6 @@ from talkdem.serialization import to_jsonable
 from talkdem.tasks import Task, TaskSet, load_tasks
 
 __all__ = [
-    "MAX_ATTEMPTS",
     "BuildResult",
     "CheckpointWarning",
     "build",
@@ -54,11 +52,8 @@ __all__ = [
     "default_checkpoint",
     "read_checkpoint",
     "tasks_digest",
-    "verification_stats",
 ]
 
-MAX_ATTEMPTS = 3
-"""First attempt plus up to two regenerations."""
 CHECKPOINT_FORMAT = 1
 
 
@@ -81,22 +76,6 @@ def default_checkpoint(generator: str, seed: int, limit: int | None = None) -> P
     safe = re.sub(r"[^A-Za-z0-9_.-]+", "_", generator)  # e.g. `llm:/models/x.gguf`
     size = "" if limit is None else f"-limit{limit}"
     return repo_root() / ".cache" / "build" / f"checkpoint-{safe}-seed{seed}{size}.jsonl"
-
-
-class CheckpointInUseError(ValueError):
-    """Another build is appending to the checkpoint."""
-
-
-@contextmanager
-def _checkpoint_lock(path: Path) -> Iterator[None]:
-    # flock on the checkpoint itself: two builds appending to one checkpoint would interleave units.
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("a") as handle:
-        try:
-            fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise CheckpointInUseError(f"{path}: another build is using this checkpoint; wait for it") from None
-        yield
 
 
 def check_output_folder(folder: Path) -> None:
@@ -389,36 +368,6 @@ def read_checkpoint(
     return units
 
 
-def _append(path: Path, record: dict[str, Any]) -> None:
-    with path.open("a", encoding="utf-8") as handle:
-        handle.write(json.dumps(record, ensure_ascii=False) + "\n")
-        handle.flush()  # a killed process loses nothing flushed; a torn last line is repaired on resume
-
-
-# --- statistics ---------------------------------------------------------------------------------------------------
-def verification_stats(rows: Iterable[dict[str, Any]]) -> dict[str, Any]:
-    """The paper's attempt statistics over pattern variants (clean controls reported apart)."""
-    variants = [r for r in rows if r["pattern"] != CLEAN]
-    attempts = Counter(r["verification"]["attempts"] for r in variants)
-    passed = Counter(r["verification"]["attempts"] for r in variants if r["verification"]["passed"])
-    failed = [r for r in variants if not r["verification"]["passed"]]
-    failed_checks = Counter(c for r in failed for c in r["verification"]["failed_checks"])
-    total = len(variants)
-    verified = sum(passed.values())
-    return {
-        "variants": total,
-        "first_attempt_passed": passed[1],
-        "regenerated": total - attempts[1],
-        "second_attempt_passed": passed[2],
-        "third_attempt": attempts[3],
-        "third_attempt_passed": passed[3],
-        "verified": verified,
-        "verified_share": round(verified / total, 4) if total else 0.0,
-        "kept_with_failed_checks": len(failed),
-        "failed_checks": dict(sorted(failed_checks.items())),
-    }
-
-
 # --- writing ---------------------------------------------------------------------------------------------------------
 def _write_parquet(rows: Sequence[dict[str, Any]], features: Any, path: Path) -> Path:
     import pyarrow as pa
@@ -581,7 +530,7 @@ def build(
     path = checkpoint or default_checkpoint(gen.name, seed, limit)
     ranker = load_ranker(rank_model, margin=rank_margin)
     pool = _WorkerSettings(str(generator), candidates, rank_model, rank_margin, workers) if workers > 1 else None
-    with _checkpoint_lock(path):
+    with checkpoint_lock(path):
         return _build_locked(gen, folder, benchmark, memory, path, seed, limit, progress, throttle, ranker, pool)
 
 
@@ -676,7 +625,7 @@ def _build_locked(
     units = read_checkpoint(path, header, logs)
     resumed = sum(1 for key, _ in todo if key in units)
     if path.stat().st_size == 0:  # the lock created it empty
-        _append(path, header)
+        append_record(path, header)
 
     bar = tqdm(
         total=len(todo), initial=resumed, desc="talkdem build", unit="task", disable=not progress, file=sys.stderr
@@ -684,10 +633,10 @@ def _build_locked(
     remaining = [(key, task) for key, task in todo if key not in units]
     for key, rows, log in _built_units(remaining, gen, seed, ranker, logged, pool):
         if log is not None:
-            _append(path, {"unit": key, "rows": rows, "log": log})
+            append_record(path, {"unit": key, "rows": rows, "log": log})
             logs[key] = log
         else:
-            _append(path, {"unit": key, "rows": rows})
+            append_record(path, {"unit": key, "rows": rows})
         units[key] = rows
         bar.update(1)
         if throttle:
@@ -704,7 +653,7 @@ def _build_locked(
     }
     generation = None
     if logged:
-        from builders.generation.llm_stats import generation_stats
+        from builders.reporting.llm_stats import generation_stats
 
         keys = [f"benchmark:{t.task_id}" for t in benchmark]
         generation = generation_stats([r for k in keys for r in units[k]], [logs[k] for k in keys if k in logs])

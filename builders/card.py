@@ -277,7 +277,7 @@ def _sample_page(folder: Path) -> str:
 
 def _llm_section(stats: dict[str, Any]) -> str:
     """What the LLM path gives and costs: this build's own figures for an LLM build, else the committed sample's."""
-    from builders.generation.llm_stats import sample_card_section
+    from builders.reporting.llm_stats import sample_card_section
     from talkdem.paths import repo_root
 
     return sample_card_section(stats, repo_root())

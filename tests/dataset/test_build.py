@@ -122,10 +122,10 @@ def test_the_build_refuses_a_folder_that_is_not_a_dataset(tmp_path: Path) -> Non
 
 
 def test_two_builds_on_one_checkpoint(tmp_path: Path) -> None:
-    from builders.build import CheckpointInUseError, _checkpoint_lock
+    from builders.checkpoint import CheckpointInUseError, checkpoint_lock
 
     path = tmp_path / "c.jsonl"
-    with _checkpoint_lock(path), pytest.raises(CheckpointInUseError, match="another build"):
+    with checkpoint_lock(path), pytest.raises(CheckpointInUseError, match="another build"):
         build(tmp_path / "out", checkpoint=path, progress=False, limit=1)
 
 
@@ -144,8 +144,9 @@ def test_another_seed_gives_other_utterances(tmp_path: Path) -> None:
 def test_failing_variants_are_regenerated_then_kept_with_their_checks() -> None:
     from collections.abc import Sequence
 
-    from builders.build import build_unit, verification_stats
+    from builders.build import build_unit
     from builders.generation import GenerationRequest, RulesGenerator
+    from builders.verification.stats import verification_stats
     from talkdem.tasks import load_tasks
 
     class Flaky(RulesGenerator):

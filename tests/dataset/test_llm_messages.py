@@ -27,8 +27,8 @@ from builders.generation.llm import (
     parse_text,
     split_prompt,
 )
-from builders.generation.llm_sample import pick_tasks, run_sample, summarize
-from builders.generation.llm_stats import card_section, generation_stats, sample_card_section
+from builders.reporting.llm_sample import pick_tasks, run_sample, summarize
+from builders.reporting.llm_stats import card_section, generation_stats, sample_card_section
 from talkdem.llm.interface.requests import GenerateRequest
 from talkdem.tasks import get_task, load_tasks
 

@@ -12,7 +12,7 @@ import pytest
 from builders.build import build_unit_logged
 from builders.generation import GenerationRequest
 from builders.generation.llm import ECHO_OF_INPUT, ECHO_OF_PROMPT, OUTPUT_FIELD, UNPARSABLE_OUTPUT, LLMGenerator
-from builders.generation.llm_stats import generation_stats
+from builders.reporting.llm_stats import generation_stats
 from talkdem.llm.backends.llamacpp import LlamaCppLM
 from talkdem.llm.interface.models import FAST_TEST_MODEL
 from talkdem.llm.interface.requests import GenerateRequest

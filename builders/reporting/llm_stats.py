@@ -17,14 +17,14 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from builders.build import MAX_ATTEMPTS, verification_stats
 from builders.generation.llm import ECHO_OF_INPUT, ECHO_OF_PROMPT, EMPTY_OUTPUT, UNPARSABLE_OUTPUT
+from builders.verification.stats import MAX_ATTEMPTS, verification_stats
 from talkdem.schema import CLEAN, PATTERN_CONFIGS
 
 __all__ = ["SAMPLE_SUMMARY", "card_section", "generation_stats", "reason_group", "sample_card_section"]
 
 SAMPLE_SUMMARY = Path("data") / "llm_sample" / "summary.json"
-"""The committed LLM sample's summary, relative to the repository root (written by `builders.generation.llm_sample`)."""
+"""The committed LLM sample's summary, relative to the repository root (written by `builders.reporting.llm_sample`)."""
 
 _OWN_REASONS = {
     UNPARSABLE_OUTPUT: "unparsable",

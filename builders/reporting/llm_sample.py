@@ -1,9 +1,9 @@
 """A measured sample of the LLM path: a few benchmark tasks of every task type through `--generator llm`,
 resumable, summarized for the card (`data/llm_sample/`).
 
-    python -m builders.generation.llm_sample --backend llamacpp --model qwen2.5-coder-1.5b --threads 1 \\
+    python -m builders.reporting.llm_sample --backend llamacpp --model qwen2.5-coder-1.5b --threads 1 \\
         --per-type 2 --out OUT            # generate (resumes from OUT/checkpoint.jsonl)
-    python -m builders.generation.llm_sample --out OUT --summarize data/llm_sample
+    python -m builders.reporting.llm_sample --out OUT --summarize data/llm_sample
 
 The pick is stated, not tuned: the first `--per-type` benchmark tasks of each of the six task types, in the
 order of `tasks/benchmark.jsonl`, interleaved by type. Each task is one unit, built as `talkdem build` builds
@@ -21,9 +21,10 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from builders.build import _append, _checkpoint_lock, build_unit_logged, read_checkpoint, tasks_digest
+from builders.build import build_unit_logged, read_checkpoint, tasks_digest
+from builders.checkpoint import append_record, checkpoint_lock
 from builders.generation.llm import LLMGenerator
-from builders.generation.llm_stats import card_section, generation_stats
+from builders.reporting.llm_stats import card_section, generation_stats
 from talkdem.schema import CLEAN, PATTERN_CONFIGS
 from talkdem.tasks import Task, TaskSet, load_tasks
 
@@ -67,16 +68,16 @@ def run_sample(generator: LLMGenerator, tasks: Sequence[Task], folder: Path, see
     path = folder / CHECKPOINT
     header = _header(generator, tasks, seed)
     built = 0
-    with _checkpoint_lock(path):
+    with checkpoint_lock(path):
         units = read_checkpoint(path, header)
         if path.stat().st_size == 0:
-            _append(path, header)
+            append_record(path, header)
         for number, task in enumerate(tasks, start=1):
             key = f"benchmark:{task.task_id}"
             if key in units:
                 continue
             rows, log = build_unit_logged(generator, task, seed)
-            _append(path, {"unit": key, "rows": rows, "log": log})
+            append_record(path, {"unit": key, "rows": rows, "log": log})
             built += 1
             seconds = log.get("usage", {}).get("seconds", 0.0)
             print(f"[{number}/{len(tasks)}] {task.task_id} {task.task_type}: {seconds:.0f} s", file=sys.stderr)
@@ -158,9 +159,7 @@ def summarize(folder: Path, target: Path, model_sha256: str = "", context: str =
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="python -m builders.generation.llm_sample", description=__doc__.split("\n")[0]
-    )
+    parser = argparse.ArgumentParser(prog="python -m builders.reporting.llm_sample", description=__doc__.split("\n")[0])
     parser.add_argument("--out", type=Path, required=True, help="sample folder (holds checkpoint.jsonl)")
     parser.add_argument("--backend", default="llamacpp", help="LLM backend (hf, llamacpp, vllm, openai)")
     parser.add_argument("--model", default="qwen2.5-coder-1.5b", help="model (catalog name, file or served name)")
