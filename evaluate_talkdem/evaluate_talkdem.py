@@ -92,7 +92,7 @@ Examples:
     >>> metric.compute(predictions=[plan], references=[f"{task_id}:intrusion:1"])
     Traceback (most recent call last):
     ...
-    talkdem.metrics.episodes.ScoringInputError: retention needs the clean instruction of each task; these pattern ids have no clean twin (add `<task_id>:clean` plans, or pass retention=False): trial_T20190908_111915_948834:intrusion:1
+    talkdem.metrics.episodes.ScoringInputError: retention needs the clean instruction of each task; these pattern ids have no clean twin (add `<task_id>:clean` plans, or call with retention=False to score without retention): trial_T20190908_111915_948834:intrusion:1
 """  # noqa: E501
 
 
