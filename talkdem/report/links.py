@@ -11,7 +11,7 @@ the parser reads it.
 Only two kinds of link pass: a relative reference (`viewer/index.html`, `../viewer/`), which resolves
 against the page wherever it is published, and an http(s) URL. An allow-list, not a list of bad schemes:
 `javascript:`, `data:`, `vbscript:`, `file:` and schemes browsers add later are all out, and so is an absolute
-path (`/home/...`, `//host/...`, `C:\\...`), which names a place on this machine or another host. Percent and
+path (one starting with `/`, `//host/` or a drive letter), which names a place on one machine or host. Percent and
 entity forms (`javascript%3A...`, `javascript&#58;...`) are no scheme to the parser (`%` and `&` cannot be in
 one), so they stay relative paths; the page escapes the `href`, so the browser reads exactly what was checked.
 """
