@@ -6,7 +6,8 @@
    types; the same order a limited `talkdem run` uses, not picked for success), each as the clean control
    and every pattern at one level. Runs resume: a second `make demo` only scores.
 3. The reference plans of the same episodes as an oracle row.
-4. Scores, the paper's tables, plots and a leaderboard page.
+4. Scores, the paper's tables, plots and a leaderboard page; then the committed runs of the same strategies
+   (`results/paper/`, 60 tasks x 16 conditions), re-scored.
 """
 
 from __future__ import annotations
@@ -50,8 +51,7 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from talkdem.leaderboard import write_leaderboard
-    from talkdem.llm.interface.default_model import DEFAULT_BACKEND
-    from talkdem.llm.interface.registry import load_model
+    from talkdem.llm.interface.registry import DEFAULT_BACKEND, load_model
     from talkdem.paths import data_dir
     from talkdem.planner.saycan import SayCanConfig
     from talkdem.planner.strategies import load_strategy
@@ -113,25 +113,28 @@ def run(args: argparse.Namespace) -> int:
     print(f"plots:       {', '.join(str(p) for p in files.plots)}")
     print(f"leaderboard: {next((p for p in pages if p.suffix == '.html'), pages[0])}")
     print(f"runs:        {', '.join(str(d) for d in run_dirs)}")
-    _print_committed_baseline()
+    _print_committed_runs(strategies)
     print(f"done in {time.perf_counter() - started:.0f} s")
     return 0
 
 
-BASELINE = Path("results") / "baseline"
+COMMITTED = Path("results") / "paper"
+COMMITTED_MODEL = "qwen2.5-coder-0.5b"
 
 
-def _print_committed_baseline() -> None:
-    """The baseline committed with the repository, re-scored now (not re-run): labelled as what it is,
-    with each run's coverage (a partial run says INCOMPLETE)."""
+def _print_committed_runs(strategies: list[str]) -> None:
+    """The paper's runs committed with the repository for the demo's strategies (default model, 60 tasks x 16
+    conditions), re-scored now (not re-run): labelled as what they are, with each run's coverage (a partial run
+    says INCOMPLETE), so the live sample's rates can be read against rates over 960 episodes."""
     from talkdem.paths import repo_root
     from talkdem.report import score_runs, success_table
 
-    folder = repo_root() / BASELINE
-    run_dirs = sorted(p for p in folder.glob("*") if (p / "header.json").is_file()) if folder.is_dir() else []
-    print("\n== 4. The committed baseline (results/baseline: recorded runs re-scored now, not run by this demo) ==")
+    folder = repo_root() / COMMITTED
+    found = [folder / f"{COMMITTED_MODEL}-{strategy}" for strategy in strategies]
+    run_dirs = [d for d in found if (d / "header.json").is_file()]
+    print(f"\n== 4. The committed runs ({COMMITTED}: recorded runs re-scored now, not run by this demo) ==")
     if not run_dirs:
-        print("no committed baseline in this installation (it ships with the repository, not the wheel)")
+        print("no committed runs in this installation (they ship with the repository, not the wheel)")
         return
     from talkdem.instructions import dataset_hash
 
@@ -139,11 +142,11 @@ def _print_committed_baseline() -> None:
     current = dataset_hash()
     for run in runs:
         header = run.header
-        # The tasks and goals are the same across dataset rebuilds, the wording is not: say which one it ran on.
+        # Runs record the dataset they ran on; say so if data/ has been rebuilt since.
         wording = "" if header.dataset_hash == current else " (an earlier build: not the instructions in data/ now)"
         print(
             f"- {run.label}: {run.coverage.describe()}; model revision {header.model.get('revision', '')[:12]}, "
             f"code {header.code_revision[:12]}, dataset {header.dataset_hash[:12]}{wording}"
         )
     print(success_table(runs).to_markdown())
-    print(f"full report: {BASELINE / 'report' / 'report.md'}; leaderboard: {BASELINE / 'leaderboard' / 'index.html'}")
+    print(f"full report: {COMMITTED / 'report' / 'report.md'}; leaderboard: {COMMITTED / 'leaderboard' / 'index.html'}")

@@ -133,7 +133,7 @@ def run_key(run_dir: Path, header: RunHeader) -> str:
     mode; not what a resume changes), the same whichever runs it is shown with and in whatever order. Labels
     made in the viewer are matched to the report's runs by it, never by the display label (which depends on
     the runs shown beside it). The parent folder's name tells apart a run and its extension kept beside it
-    (`results/baseline/X` holds level 3 of `results/baseline/levels/X`, with the same header otherwise)."""
+    (`runs/X` holding level 3 of `runs/levels/X`, with the same header otherwise)."""
     identity = {
         "folder": "/".join(run_dir.resolve().parts[-2:]),
         "model": header.model,

@@ -2,7 +2,7 @@
 types labelled by people against the automatic classifier.
 
     from talkdem.viewer import load_runs, write_viewer, sample_errors
-    runs = load_runs([Path("results/baseline/qwen2.5-coder-0.5b-care")])
+    runs = load_runs([Path("results/paper/qwen2.5-coder-0.5b-care")])
     write_viewer(runs, Path("viewer"), sample=sample_errors(runs, 3, seed=0).to_json())
 """
 

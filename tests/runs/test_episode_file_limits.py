@@ -23,7 +23,7 @@ from talkdem.runs.episode_files import (
 )
 from talkdem.runs.pack import unpack_run
 
-COMMITTED = Path(__file__).resolve().parent.parent.parent / "results" / "baseline" / "qwen2.5-coder-0.5b-care"
+COMMITTED = Path(__file__).resolve().parent.parent.parent / "results" / "paper" / "qwen2.5-coder-0.5b-care"
 
 
 def _bomb(path: Path, line: bytes, unpacked: int) -> Path:

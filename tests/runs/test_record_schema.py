@@ -20,7 +20,7 @@ from talkdem.cli import main
 from talkdem.runs import EpisodeRecord, read_episodes
 from talkdem.runs.records import RecordError
 
-COMMITTED = Path(__file__).resolve().parent.parent.parent / "results" / "baseline" / "qwen2.5-coder-0.5b-care"
+COMMITTED = Path(__file__).resolve().parent.parent.parent / "results" / "paper" / "qwen2.5-coder-0.5b-care"
 
 
 def _records() -> list[dict[str, Any]]:

@@ -1,6 +1,7 @@
-"""Viewer fixtures: the committed baseline runs (level 3, Vanilla and CARE) loaded once, their error sample,
-and the viewer written from them. `browser_helpers.py` (tests/leaderboard) and `metrics_helpers.py`
-(tests/metrics) are made importable: with --import-mode=importlib test folders are not on sys.path."""
+"""Viewer fixtures: the committed runs of the default model under Vanilla and CARE (`results/paper/`) loaded
+once, their error sample, and the viewer written from them. `browser_helpers.py` (tests/leaderboard) and
+`metrics_helpers.py` (tests/metrics) are made importable: with --import-mode=importlib test folders are not on
+sys.path."""
 
 from __future__ import annotations
 

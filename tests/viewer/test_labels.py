@@ -89,7 +89,7 @@ def test_labels_against_the_classifier(scored: list[ScoredRun], committed_sample
     ("change", "message"),
     [
         ({"type": "referent"}, "unknown type 'referent' (expected one of referent_resolution, "),
-        ({"episode_id": "trial_nope:intrusion:3"}, "unknown episode id (not among the 360 episodes of "),
+        ({"episode_id": "trial_nope:intrusion:3"}, "unknown episode id (not among the 960 episodes of "),
         ({"run": "someone else / CARE"}, "unknown run 'someone else / CARE' (the runs reported: "),
         ({"episode_id": None}, "'run', 'episode_id' and 'type' must be strings"),
     ],

@@ -136,7 +136,7 @@ def test_hostile_text_is_shown_as_text_in_chromium(hostile: tuple[Path, ViewerFi
 
 def test_chunks_hold_consecutive_episodes(committed_viewer: ViewerFiles) -> None:
     index = index_of(committed_viewer.folder)
-    assert index["chunks"] == len(committed_viewer.chunks) == 4  # 720 episodes, 200 per file
+    assert index["chunks"] == len(committed_viewer.chunks) == 10  # 1,920 episodes, 200 per file
     f = {name: i for i, name in enumerate(index["fields"])}
     for number, path in enumerate(committed_viewer.chunks):
         assert path.name == f"chunk-{number:04d}.js"
@@ -157,9 +157,9 @@ def test_the_folder_rule(tmp_path: Path, committed_runs: list) -> None:  # type:
     assert (other / "keep.txt").read_text() == "mine"
     out = tmp_path / "viewer"
     write_viewer(committed_runs, out, chunk_size=100)
-    assert len(list((out / "data").glob("chunk-*.js"))) == 8
+    assert len(list((out / "data").glob("chunk-*.js"))) == 20
     write_viewer(committed_runs, out, chunk_size=400)  # rewriting its own folder replaces the old chunks
-    assert len(list((out / "data").glob("chunk-*.js"))) == 2
+    assert len(list((out / "data").glob("chunk-*.js"))) == 5
     assert "sdk: static" in (out / "README.md").read_text()
 
 
@@ -196,12 +196,12 @@ def test_log_top_candidates_are_stored_in_the_record(tmp_path: Path) -> None:
 def test_cli_view_and_sample(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     sample = tmp_path / "sample.json"
     assert main(["sample-errors", *map(str, COMMITTED), "--seed", "3", "--out", str(sample)]) == 0
-    assert "30 failures, seed 3" in capsys.readouterr().out
+    assert "89 failures, seed 3" in capsys.readouterr().out
     assert main(["view", *map(str, COMMITTED), "--sample", str(sample), "--out", str(tmp_path / "v")]) == 0
     out = capsys.readouterr().out
-    assert "720 episodes of 2 run(s), 30 in the error sample; 4 detail files" in out
+    assert "1920 episodes of 2 run(s), 89 in the error sample; 10 detail files" in out
     index = index_of(tmp_path / "v")
-    assert sum(r[index["fields"].index("sampled")] for r in index["rows"]) == 30
+    assert sum(r[index["fields"].index("sampled")] for r in index["rows"]) == 89
     # A sample drawn from other runs is refused with one line naming the episode.
     assert main(["view", str(COMMITTED[0]), "--sample", str(sample), "--out", str(tmp_path / "w")]) == 2
     err = capsys.readouterr().err.strip()

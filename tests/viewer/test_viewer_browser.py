@@ -1,5 +1,6 @@
-"""The viewer in headless Chromium on the committed baseline runs: it opens, filters, shows an episode with
-its steps and the highlighted instruction, and takes, keeps and exports a person's label."""
+"""The viewer in headless Chromium on the committed runs of the default model under Vanilla and CARE: it opens,
+filters, shows an episode with its steps and the highlighted instruction, and takes, keeps and exports a person's
+label."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from viewer_browser import BASELINE, chunk_of, drive, index_of
+from viewer_browser import PAPER, chunk_of, drive, index_of
 
 from talkdem.viewer import ErrorSample, ViewerFiles, word_diff
 
@@ -65,12 +66,12 @@ def session(committed_viewer: ViewerFiles, tmp_path_factory: pytest.TempPathFact
 def test_opens_with_every_episode_and_no_detail_loaded(session: dict[str, Any]) -> None:
     seen, index = session["first"], session["index"]
     assert seen["ready"] == "1"
-    assert seen["count0"] == "720 of 720 episodes"
-    assert "qwen2.5-coder-0.5b / Vanilla (360)" in seen["summary"]
-    assert "qwen2.5-coder-0.5b / CARE (360)" in seen["summary"]
+    assert seen["count0"] == "1,920 of 1,920 episodes"
+    assert "qwen2.5-coder-0.5b / Vanilla (960)" in seen["summary"]
+    assert "qwen2.5-coder-0.5b / CARE (960)" in seen["summary"]
     assert seen["rows0"] == 100  # one page of the table
     assert seen["chunks0"] == [] and seen["chunksAfterFilter"] == []  # details are loaded when an episode opens
-    assert len(index["rows"]) == 720
+    assert len(index["rows"]) == 1920
 
 
 def test_filters_pattern_and_outcome(session: dict[str, Any]) -> None:
@@ -83,9 +84,10 @@ def test_filters_pattern_and_outcome(session: dict[str, Any]) -> None:
     ]
     assert expected, "the committed runs have object-substitution failures of tasks solved clean"
     assert [r["row"] for r in seen["filtered"]] == expected[:100]
-    assert seen["count1"] == f"{len(expected)} of 720 episodes"
+    assert seen["count1"] == f"{len(expected)} of 1,920 episodes"
     for row in seen["filtered"]:
-        assert row["cells"][2] == "Object Substitution L3" and row["cells"][4] == "failure"
+        level = index["rows"][row["row"]][f["level"]]
+        assert row["cells"][2] == f"Object Substitution L{level}" and row["cells"][4] == "failure"
 
 
 def test_opened_episode_shows_steps_highlight_clean_twin_and_reference(
@@ -127,7 +129,7 @@ def test_label_is_prefilled_saved_and_exported(session: dict[str, Any], committe
             "run": "qwen2.5-coder-0.5b / Vanilla" if row[f["run"]] == 0 else "qwen2.5-coder-0.5b / CARE",
             "run_key": index["runs"][row[f["run"]]]["key"],  # what the report matches the label by
             "episode_id": row[f["episode_id"]],
-            "condition": "object_substitution:3",
+            "condition": f"object_substitution:{row[f['level']]}",
             "type": "state_interpretation",
             "automatic": row[f["error"]],
         }
@@ -148,13 +150,14 @@ def test_labels_persist_in_the_browser(session: dict[str, Any]) -> None:
 
 
 def test_every_committed_run_renders(tmp_path: Path) -> None:
-    """`talkdem view` over every committed run directory at once (the baseline, the oracle, the levels)."""
+    """`talkdem view` over every committed run directory at once (the paper's runs, the clarification runs, the
+    ReAct sample), 11,532 episodes."""
     from talkdem.cli import main
 
-    dirs = sorted(p.parent for p in BASELINE.rglob("header.json"))
-    assert len(dirs) == 5
+    dirs = sorted(p.parent for p in PAPER.parent.rglob("header.json") if ".sweep" not in p.parts)
+    assert len(dirs) == 13
     assert main(["view", *map(str, dirs), "--out", str(tmp_path / "all")]) == 0
     index = index_of(tmp_path / "all")
-    assert sorted(r["episodes"] for r in index["runs"]) == [360, 360, 360, 960, 960]
+    assert sorted(r["episodes"] for r in index["runs"]) == [12] + [960] * 12
     seen = drive(tmp_path / "all" / "index.html", "out.count = $('count').textContent; finish();", tmp_path / "p")
-    assert seen["count"] == "3,000 of 3,000 episodes"
+    assert seen["count"] == "11,532 of 11,532 episodes"

@@ -6,6 +6,7 @@ a model with a very long name still gets file names the file system takes."""
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 from typing import Any
 
@@ -234,16 +235,17 @@ def test_file_stems_are_bounded_and_stay_apart() -> None:
     assert file_stem("x" * MAX_STEM, "run") == "x" * MAX_STEM  # at the limit: kept as it is
 
 
-def test_a_run_and_its_extension_beside_it_are_told_apart(monkeypatch: pytest.MonkeyPatch) -> None:
-    """`results/baseline/X` is level 3 of `results/baseline/levels/X`: one folder name, one start time."""
-    root = Path(__file__).resolve().parent.parent.parent
-    level3, levels = (
-        root / "results/baseline/qwen2.5-coder-0.5b-care",
-        root / "results/baseline/levels/qwen2.5-coder-0.5b-care",
-    )
+def test_a_run_and_its_extension_beside_it_are_told_apart(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """A run kept beside its extension (`runs/X` holding some conditions of `runs/levels/X`, as a run extended to
+    more levels is kept): one folder name, one start time, told apart by the folder holding them."""
+    committed = Path(__file__).resolve().parent.parent.parent / "results/paper/qwen2.5-coder-0.5b-care"
+    level3, levels = tmp_path / "runs/qwen2.5-coder-0.5b-care", tmp_path / "runs/levels/qwen2.5-coder-0.5b-care"
+    for folder in (level3, levels):
+        folder.mkdir(parents=True)
+        shutil.copy(committed / "header.json", folder / "header.json")
     headers = [read_header(level3), read_header(levels)]
     assert headers[0].created == headers[1].created
     labels = run_labels([level3, levels], headers)
     assert len(set(labels)) == 2 and all(label.startswith("qwen2.5-coder-0.5b / CARE [") for label in labels)
-    monkeypatch.chdir(root)  # a key does not depend on how the folder is named on the command line
-    assert run_key(Path("results/baseline/levels/qwen2.5-coder-0.5b-care"), headers[1]) == run_key(levels, headers[1])
+    monkeypatch.chdir(tmp_path)  # a key does not depend on how the folder is named on the command line
+    assert run_key(Path("runs/levels/qwen2.5-coder-0.5b-care"), headers[1]) == run_key(levels, headers[1])

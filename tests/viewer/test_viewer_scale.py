@@ -1,6 +1,6 @@
-"""The viewer on 10,000+ episodes: generated run directories (eleven copies of the committed CARE levels run,
-960 episodes each, their final states left out to keep the files small) give 10,560 episodes. The page loads
-the index alone, filters and searches it quickly, and loads a detail file only when an episode opens."""
+"""The viewer on 10,000+ episodes: generated run directories (eleven copies of the committed CARE run of
+`results/paper/`, 960 episodes each, their final states left out to keep the files small) give 10,560 episodes.
+The page loads the index alone, filters and searches it quickly, and loads a detail file only when an episode opens."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from viewer_browser import BASELINE, drive, index_of
+from viewer_browser import PAPER, drive, index_of
 
 from talkdem.runs.episode_files import episodes_file, read_episode_bytes
 from talkdem.viewer import load_runs, write_viewer
@@ -32,7 +32,7 @@ waitFor(opened, function(){ out.chunksOpen = chunksLoaded(); out.title = $('epis
 @pytest.fixture(scope="module")
 def generated(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, float]:
     root = tmp_path_factory.mktemp("large")
-    source = BASELINE / "levels" / "qwen2.5-coder-0.5b-care"
+    source = PAPER / "qwen2.5-coder-0.5b-care"
     lines = []
     stored = episodes_file(source)  # committed runs may be packed
     assert stored is not None, f"{source}: no episodes"
@@ -63,7 +63,7 @@ def test_ten_thousand_episodes_load_filter_and_open_lazily(generated: tuple[Path
     assert seen["chunks0"] == [] and seen["chunksAfterFilter"] == []
     assert seen["loadedAt"] < 5000, f"the page took {seen['loadedAt']:.0f} ms to load"
     assert seen["filterMs"] < 300 and seen["searchMs"] < 2000, seen
-    print(  # shown with -s: the numbers the README quotes
+    print(  # shown with -s: the numbers docs/viewer.md quotes
         f"built in {seconds:.1f} s; loaded in {seen['loadedAt']:.0f} ms; filter {seen['filterMs']:.1f} ms; "
         f"four filters and a search {seen['searchMs']:.0f} ms"
     )

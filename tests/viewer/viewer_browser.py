@@ -16,9 +16,9 @@ from typing import Any
 
 from browser_helpers import chromium
 
-BASELINE = Path(__file__).resolve().parent.parent.parent / "results" / "baseline"
-COMMITTED = (BASELINE / "qwen2.5-coder-0.5b-vanilla", BASELINE / "qwen2.5-coder-0.5b-care")
-"""The committed level-3 runs the browser tests open."""
+PAPER = Path(__file__).resolve().parent.parent.parent / "results" / "paper"
+COMMITTED = (PAPER / "qwen2.5-coder-0.5b-vanilla", PAPER / "qwen2.5-coder-0.5b-care")
+"""The committed runs the viewer tests open: the default model under Vanilla and CARE, all 16 conditions."""
 
 _FLAGS = (
     "--headless",
