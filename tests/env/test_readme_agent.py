@@ -1,4 +1,5 @@
-"""The README's "Bring your own agent" example, run as written, then replayed over all 300 benchmark tasks."""
+"""docs/agents.md's "Bring your own agent" example, run as written, then replayed over all 300 benchmark tasks; and
+the README's short loop ("Drive the Gymnasium environment"), run as written, printing what it says."""
 
 from __future__ import annotations
 
@@ -11,14 +12,20 @@ import pytest
 from talkdem.sim import run_plan
 from talkdem.tasks import get_task
 
-README = Path(__file__).resolve().parents[2] / "README.md"
+ROOT = Path(__file__).resolve().parents[2]
+AGENTS = ROOT / "docs" / "agents.md"
+README = ROOT / "README.md"
+
+
+def _python_block(page: Path, heading: str) -> str:
+    section = page.read_text(encoding="utf-8").split(f"\n{heading}\n", 1)[1]
+    match = re.search(r"```python\n(.*?)```", section, re.S)
+    assert match, f"{page.name}: the section {heading!r} has no python example"
+    return match.group(1)
 
 
 def _example() -> str:
-    section = README.read_text(encoding="utf-8").split("## Bring your own agent", 1)[1]
-    match = re.search(r"```python\n(.*?)```", section, re.S)
-    assert match, "the README section has no python example"
-    return match.group(1)
+    return _python_block(AGENTS, "## Bring your own agent")
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +36,7 @@ def example(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     os.chdir(tmp_path_factory.mktemp("agent"))
     try:
         namespace: dict[str, Any] = {"__name__": "readme_example"}
-        exec(compile(_example(), str(README), "exec"), namespace)
+        exec(compile(_example(), str(AGENTS), "exec"), namespace)
         namespace["cwd"] = Path.cwd()
     finally:
         os.chdir(here)
@@ -114,3 +121,11 @@ def test_the_environment_reports_failures_limits_and_bad_ids() -> None:
         env.reset(options={"episode_id": "trial_nope:clean:0"})
     with pytest.raises(ValueError, match="<task_id>"):
         env.reset(options={"episode_id": "not an id"})
+
+
+def test_the_readme_loop_plays_an_episode_to_reward_one(capsys: pytest.CaptureFixture[str]) -> None:
+    block = _python_block(README, "### Drive the Gymnasium environment")
+    exec(compile(block, str(README), "exec"), {"__name__": "readme_loop"})
+    stated = re.search(r"^print\(.*\)  # (.+?):", block, flags=re.MULTILINE)
+    assert stated is not None, "the README's loop states what it prints"
+    assert capsys.readouterr().out.splitlines() == [stated.group(1)]  # "1.0 True"

@@ -1,7 +1,7 @@
 """`talkdem import-inspect` on logs of the TALK-Dem inspect task made with a scripted mock model: every field
 it reads is checked with one line naming the log, the sample and what was expected; the run's status says
-whether every planned episode is there; a log of several epochs is imported one epoch at a time; and the
-README's flow (a log of `-T conditions=intrusion:3`, then `talkdem report`) works as written."""
+whether every planned episode is there; a log of several epochs is imported one epoch at a time; and
+docs/agents.md's flow (a log of `-T conditions=intrusion:3`, then `talkdem report`) works as written."""
 
 from __future__ import annotations
 
@@ -270,8 +270,9 @@ def test_an_epoch_of_a_one_epoch_log(clean_log: Path, tmp_path: Path, capsys: py
 
 
 def test_the_readme_flow_a_pattern_only_log_then_report(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """README: `inspect eval ... -T conditions=intrusion:3 -T limit=6`, `talkdem import-inspect`, `talkdem report`
-    (limit 2 here). The report used to stop at retention, pointing to a `retention=False` the CLI lacks."""
+    """docs/agents.md: `inspect eval ... -T conditions=intrusion:3 -T limit=6`, `talkdem import-inspect`,
+    `talkdem report` (limit 2 here). The report used to stop at retention, pointing to a `retention=False` the CLI
+    lacks."""
     episodes = select("intrusion:3", limit=2)
     plans = [get_task(e.task_id).reference_plan for e in episodes]
     log = _eval(tmp_path / "logs", _scripted(plans), conditions="intrusion:3", limit=2)

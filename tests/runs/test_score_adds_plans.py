@@ -1,4 +1,4 @@
-"""`talkdem score` adds the plans of a second file to a run of its own (the README's workflow: score what
+"""`talkdem score` adds the plans of a second file to a run of its own (docs/runs.md's workflow: score what
 you have, score more later), keeping what is there; a changed plan for an episode already scored, or
 another system's run, is refused."""
 

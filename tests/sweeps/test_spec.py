@@ -1,5 +1,5 @@
 """The sweep spec: every mistake is one line naming the file, the key and what was expected (exit 2, no
-traceback); the dry run prints the expansion and writes nothing; the README's example specs expand as it says."""
+traceback); the dry run prints the expansion and writes nothing; the example specs expand as docs/serving.md says."""
 
 from __future__ import annotations
 
@@ -145,12 +145,13 @@ def test_the_dry_run_prints_every_run_and_writes_nothing(tmp_path: Path, capsys:
 
 
 def _readme_section() -> str:
-    text = (repo_root() / "README.md").read_text(encoding="utf-8")
+    """The "Sweeps" section of docs/serving.md (it was the README's)."""
+    text = (repo_root() / "docs" / "serving.md").read_text(encoding="utf-8")
     start = text.index("\n## Sweeps\n")
     return text[start : text.find("\n## ", start + 1)]
 
 
-def test_the_readme_example_specs_expand_as_the_readme_says(capsys: pytest.CaptureFixture[str]) -> None:
+def test_the_example_specs_expand_as_the_docs_say(capsys: pytest.CaptureFixture[str]) -> None:
     section = _readme_section()
     named = sorted(set(re.findall(r"examples/[\w.-]+\.yaml", section)))
     assert named == ["examples/sweep-paper.yaml", "examples/sweep-smoke.yaml"]
@@ -159,7 +160,7 @@ def test_the_readme_example_specs_expand_as_the_readme_says(capsys: pytest.Captu
         first = capsys.readouterr().out.splitlines()[0]
         runs, episodes = re.search(r": (\d+) runs, (\d+) episodes", first).groups()  # type: ignore[union-attr]
         claim = re.search(rf"`{re.escape(name)}`[^\n]*?(\d+) runs, ([\d,]+) episodes", section)
-        assert claim is not None, f"the README says nothing of {name}'s size"
+        assert claim is not None, f"docs/serving.md says nothing of {name}'s size"
         assert (claim.group(1), claim.group(2).replace(",", "")) == (runs, episodes)
     (shown,) = re.findall(r"```yaml\n(# examples/sweep-smoke.yaml\n.*?)```", section, flags=re.DOTALL)
     assert yaml.safe_load(shown) == yaml.safe_load((repo_root() / "examples" / "sweep-smoke.yaml").read_text())
