@@ -45,13 +45,21 @@ RUNS_PAGE = DOCS / "runs.md"
 
 def _section(title: str, page: Path = README) -> str:
     """The text under the heading `title` (any level) of `page`, up to the next heading of the same or a higher
-    level."""
-    text = page.read_text(encoding="utf-8")
-    found = re.search(rf"^(#+) {re.escape(title)}\n", text, flags=re.MULTILINE)
-    assert found, f"{page.name}: no section '{title}'"
-    level = len(found.group(1))
-    end = re.search(rf"^#{{1,{level}}} ", text[found.end() :], flags=re.MULTILINE)
-    return text[found.start() : found.end() + end.start() if end else len(text)]
+    level (a `#` line inside a fenced code block is a comment, not a heading)."""
+    lines = page.read_text(encoding="utf-8").splitlines(keepends=True)
+    start, level, fenced = None, 0, False
+    for n, line in enumerate(lines):
+        if line.startswith("```"):
+            fenced = not fenced
+        heading = None if fenced else re.match(r"(#+) (.*)$", line.rstrip("\n"))
+        if heading is None:
+            continue
+        if start is None and heading.group(2) == title:
+            start, level = n, len(heading.group(1))
+        elif start is not None and len(heading.group(1)) <= level:
+            return "".join(lines[start:n])
+    assert start is not None, f"{page.name}: no section '{title}'"
+    return "".join(lines[start:])
 
 
 def _blocks(section: str, language: str) -> list[str]:
@@ -193,7 +201,7 @@ def server(wheel: Wheel) -> Iterator[str]:
             process.kill()
 
 
-SMALL = ["--model", "smollm2", "--threads", "1", "--no-progress"]
+SMALL = ["--model", "smollm2", "--model-arg", "threads=1", "--no-progress"]
 """What the checks add to a README `talkdem run`: the fast test model (the README's default model is the 0.5B
 one), one thread."""
 
