@@ -29,8 +29,6 @@ from pathlib import Path
 from typing import Any
 
 from builders.checkpoint import append_record, checkpoint_lock
-from builders.generation import GenerationRequest, Generator, derive_seed, get_generator
-from builders.generation.base import generate_checked
 from builders.generation.ranking import CandidateRanker, Ranker, choose, load_ranker
 from builders.interpretation import interpretation
 from builders.verification import verify
@@ -39,6 +37,7 @@ from talkdem.paths import data_dir, repo_root
 from talkdem.schema import CLEAN, LEVELS, MEMORY_BANK, PATTERN_CONFIGS, TASKS, data_files, features, split_name
 from talkdem.seeds import PddlParams
 from talkdem.serialization import to_jsonable
+from talkdem.speech.base import GenerationRequest, Generator, derive_seed, generate_checked, get_generator
 from talkdem.tasks import Task, TaskSet, load_tasks
 
 __all__ = [

@@ -102,7 +102,7 @@ def _levels_section() -> str:
         for level, meaning in pattern.levels.items():
             out.append(f"- Level {level}: {meaning}")
         out.append("")
-    from builders.generation.forms import definitions_table
+    from talkdem.speech.forms import definitions_table
 
     out += ["This project's definitions beside the paper's, with the form each utterance draws (`rules-v3`):", ""]
     out.append(definitions_table())
@@ -317,7 +317,16 @@ def render_card(stats: dict[str, Any], folder: Path) -> str:
         sample_page=_sample_page(folder),
         prompt_version=f"`{info.get('prompt_version', '')}`",
         candidates=_candidates_text(info, counts["instructions"] + counts["memory_items"]),
+        rules_v2=_retired("rules-v2"),
     )
+
+
+def _retired(name: str) -> str:
+    """Where git keeps a retired generator (`talkdem.speech.base.RETIRED`)."""
+    from talkdem.speech.base import RETIRED
+
+    commit, path = RETIRED[name]
+    return f"`git show {commit}:{path}`"
 
 
 # Measured on this project's 2-core machine: the ranked build of data/ (25,600 candidates, Qwen2.5-Coder-0.5B)
@@ -488,8 +497,8 @@ Step 2 transforms the clean control with each pattern at each level ({prompt_ver
 
 {candidates}
 
-The same build seed gives byte-identical files. The previous phrase banks (`rules-v2`) stay loadable by name
-(`talkdem build --generator rules-v2`); what changed and why is below.
+The same build seed gives byte-identical files. The previous phrase banks (`rules-v2`) are retired; git keeps
+them ({rules_v2}); what changed and why is below.
 
 #### What changed from `rules-v2`, and why
 

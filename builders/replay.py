@@ -19,10 +19,10 @@ from pathlib import Path
 from typing import Any
 
 from builders.build import build_unit, check_output_folder, write_dataset
-from builders.generation import get_generator
 from builders.generation.ranking import RecordedRanker, checked_margin
 from talkdem.paths import data_dir
 from talkdem.schema import CLEAN, MEMORY_BANK, PATTERN_CONFIGS, TASKS, data_files, features
+from talkdem.speech.base import get_generator
 from talkdem.tasks import Task, TaskSet, load_tasks
 
 __all__ = ["recorded_rows", "replay"]

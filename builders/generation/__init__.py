@@ -1,17 +1,14 @@
-"""Instruction generators behind one interface: `rules` (embedded default, `rules-v3`; `rules-v2` by name) and
-`llm` (prompted backends)."""
+"""The generation that needs a language model: the `llm` generator (the paper's prompts on a backend) and the
+ranking of verified candidates.
 
-from builders.generation.base import (
-    CLEAN,
-    GenerationRequest,
-    Generator,
-    derive_seed,
-    get_generator,
-    register_generator,
-    registered_generators,
-)
-from builders.generation.rules import RulesGenerator
-from builders.generation.rules_v3 import RulesV3Generator
+The rule-based generators (`rules`, i.e. `rules-v3`) are runtime code in `talkdem.speech`, whose registry
+knows only them; importing this package registers `llm` there, so a dataset-building command that imports the
+builders can ask `talkdem.speech.get_generator` for it, and the library never reaches a model through it.
+"""
+
+from talkdem.speech.base import Generator, register_generator
+
+__all__: list[str] = []
 
 
 def _default_llm_generator() -> Generator:
@@ -22,19 +19,4 @@ def _default_llm_generator() -> Generator:
     return LLMGenerator(load_model("hf", "smollm2-135m-instruct"))
 
 
-register_generator("rules", RulesV3Generator)  # the default: rules-v3
-register_generator("rules-v3", RulesV3Generator)
-register_generator("rules-v2", RulesGenerator)  # the phrase banks of the data before issue 19, byte for byte
 register_generator("llm", _default_llm_generator)
-
-__all__ = [
-    "CLEAN",
-    "GenerationRequest",
-    "Generator",
-    "RulesGenerator",
-    "RulesV3Generator",
-    "derive_seed",
-    "get_generator",
-    "register_generator",
-    "registered_generators",
-]

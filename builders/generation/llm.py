@@ -36,9 +36,9 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any, Protocol
 
-from builders.generation.base import CLEAN, Generated, GenerationRequest
-from builders.lexicon import display_name
 from talkdem.llm.interface.requests import GenerateRequest
+from talkdem.speech.base import CLEAN, Generated, GenerationRequest
+from talkdem.speech.lexicon import display_name
 
 __all__ = [
     "ECHO_OF_INPUT",

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from functools import cache
 from typing import Any
 
-from builders.verification.cues import REPAIR
+from talkdem.speech.cues import REPAIR
 
 __all__ = [
     "MARKERS",

@@ -14,13 +14,13 @@ from collections.abc import Sequence
 from typing import Any
 
 from builders.markers.measures import sentences
+from talkdem.speech.cues import openers
 
-__all__ = ["TOP5_GOAL", "added_sentences", "article_errors", "cell_variety", "openers", "repeated_opener"]
+__all__ = ["TOP5_GOAL", "added_sentences", "article_errors", "cell_variety", "repeated_opener"]
 
 TOP5_GOAL = 0.10
 """The five most frequent added sentences must stay under this share of all added sentences."""
 
-_OPENER_WORDS = 3
 # "a" before these vowel letters is right (a one, a usual), "an" before these consonant letters too (an hour).
 _A_BEFORE_VOWEL = ("one", "once", "use", "usu", "uni", "eu", "ewe")
 _AN_BEFORE_CONSONANT = ("hour", "honest", "honou", "heir")
@@ -31,21 +31,6 @@ _MASS = re.compile(
     r"(?!\s+(?:bar|dispenser|bottle|loaf|holder))",
     re.IGNORECASE,
 )
-
-
-def openers(text: str) -> list[str]:
-    """Each sentence's opener: the lowercased words before its first comma, when there are at most three.
-
-    "Mind you, the garden ..." -> "mind you"; "Where was I? Oh yes, in the light." -> "oh yes" (second sentence).
-    Sentences without such a lead-in have none.
-    """
-    out = []
-    for sentence in re.split(r"(?<=[.!?])\s+", text.strip()):
-        head, comma, _ = sentence.partition(",")
-        words = re.findall(r"[\w']+", head.lower())
-        if comma and 0 < len(words) <= _OPENER_WORDS:
-            out.append(" ".join(words))
-    return out
 
 
 def repeated_opener(text: str) -> bool:

@@ -15,10 +15,11 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
 
-from builders.lexicon import find_mentions, mentions_of, word_spans
-from builders.task_terms import TaskTerms, state_kind, task_terms, verb_lemma
-from builders.verification.cues import EMPTY_SPEECH, REPAIR, SENTENCE_BREAK, VAGUE, find_all
+from builders.markers.variety import repeated_opener
 from talkdem.schema import CLEAN, LEVELS
+from talkdem.speech.cues import EMPTY_SPEECH, REPAIR, SENTENCE_BREAK, VAGUE, find_all
+from talkdem.speech.lexicon import find_mentions, mentions_of, word_spans
+from talkdem.speech.task_terms import TaskTerms, span_of, state_kind, task_terms, term_positions
 from talkdem.tasks import Task
 
 __all__ = ["CHECKS", "Context", "checks_for", "verify"]
@@ -41,23 +42,12 @@ class Context:
     @cached_property
     def term_positions(self) -> dict[str, list[int]]:
         """Required term -> start offsets of its occurrences in the utterance."""
-        positions: dict[str, list[int]] = {}
-        words = word_spans(self.text)
-        for lemma in self.terms.verbs:
-            positions[f"verb:{lemma}"] = [s for w, s, _ in words if verb_lemma(w) == lemma]
-        for state in self.terms.state_words:
-            positions[f"state:{state}"] = [s for w, s, _ in words if w == state]
-        for role in self.terms.seed_roles:
-            positions[f"role:{role}"] = [m.start for m in mentions_of(self.text, self.terms.role_types[role])]
-        return positions
+        return term_positions(self.terms, self.text)
 
     @cached_property
     def request_span(self) -> tuple[int, int] | None:
         """(first task-term start, start of the term that completes the request); None if a term is missing."""
-        firsts = [occ[0] for occ in self.term_positions.values() if occ]
-        if not firsts or len(firsts) < len(self.term_positions):
-            return None
-        return min(firsts), max(firsts)
+        return span_of(self.term_positions)
 
     def target_positions(self) -> list[int]:
         return [m.start for m in mentions_of(self.text, self.terms.role_types["target"])]
@@ -137,8 +127,6 @@ def varied_openers(ctx: Context) -> bool:
 
     The phrase banks combine freely, so a few draws repeat a lead-in; the unranked build happened to keep
     none, but a ranking model prefers them (repetition is predictable), so the ranked build kept 5 of 4,500."""
-    from builders.markers.variety import repeated_opener  # here: builders.markers imports the cue lists
-
     return not repeated_opener(ctx.text)
 
 

@@ -5,7 +5,7 @@ Two ways of answering (`CLARIFY_MODES`, `talkdem run --clarify`):
 - `oracle`: a clear answer naming the slot asked about and nothing else ("The apple.", "In the fridge.",
   "Heated."), or saying the task has no such slot ("You don't need a light.").
 - `in-pattern`: that clear answer spoken under the instruction's own pattern and level, by the dataset's
-  generator through its public interface (`builders.generation.get_generator`, one `GenerationRequest` with
+  generator through its public interface (`talkdem.speech.get_generator`, one `GenerationRequest` with
   the clear answer as the clean text): when the generator is replaced, the answers change wording with it.
   A person who spoke clearly (a clean instruction) answers clearly: the oracle answer.
 
@@ -134,7 +134,7 @@ def oracle_answer(task: Task, slot: Slot | None) -> str:
 
 def leaked_slots(task: Task, slot: Slot | None, answer: str) -> list[str]:
     """The gold object types other than the asked slot's that `answer` names (the lexicon's mentions)."""
-    from builders.lexicon import display_name, mentions_of
+    from talkdem.speech.lexicon import display_name, mentions_of
 
     asked = slot_type(task, slot) if slot is not None else ""
     withheld = {str(getattr(task.pddl_params, role)) for role in _ROLES} - {asked, ""}
@@ -198,10 +198,10 @@ class SimulatedPerson:
         pattern = self.instruction.condition.pattern
         if self.mode == "oracle" or slot is None or pattern == CLEAN:
             return clear, False
-        from builders.generation import GenerationRequest, derive_seed
+        from talkdem.speech import GenerationRequest, derive_seed
 
         if self._generator is None:
-            from builders.generation import get_generator
+            from talkdem.speech import get_generator
 
             self._generator = get_generator(self.generator_name)
         level = self.instruction.condition.level

@@ -21,7 +21,7 @@ def register(subparsers: Any) -> None:
     parser.add_argument(
         "--generator",
         default="rules",
-        help="rules (default, no LLM) or llm (the paper's prompts on --backend/--model); see builders/generation",
+        help="rules (default: rules-v3, no LLM; see talkdem/speech) or llm (the paper's prompts on --backend/--model)",
     )
     parser.add_argument("--backend", default="hf", help="LLM backend for --generator llm (hf, llamacpp, vllm, openai)")
     parser.add_argument("--model", default="default", help="model for --generator llm (default: SmolLM2-135M)")
@@ -80,7 +80,9 @@ def register(subparsers: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     from builders.build import build
     from talkdem.paths import data_dir, repo_root
+    from talkdem.speech import check_generator_name
 
+    check_generator_name(args.generator)  # a retired one (rules-v2) names the commit that has it
     out = args.out or data_dir()
     if args.limit is not None and Path(out).resolve() == (repo_root() / "data").resolve():
         print("talkdem build: --limit writes a partial dataset; give --out FOLDER (not data/)", file=sys.stderr)

@@ -272,8 +272,8 @@ class RunSpec:
 
 def clarify_generator() -> str:
     """`<generator name>/<its prompt version>` of the generator that speaks in-pattern answers."""
-    from builders.generation import get_generator
     from talkdem.clarify.person import GENERATOR
+    from talkdem.speech import get_generator
 
     return f"{GENERATOR}/{get_generator(GENERATOR).prompt_version}"
 

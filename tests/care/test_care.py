@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import ast
+import re
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +35,7 @@ def test_care_retrieves_from_the_same_task_for_a_memory_instruction(tmp_path, mo
     retrieved = care.retrieve([probe.instruction])[0]  # type: ignore[attr-defined]
     assert retrieved[0].id == probe.id  # an instruction is most similar to itself
     assert len(retrieved) == 3 and len({m.id for m in retrieved}) == 3
-    assert list(tmp_path.glob("care/memory-*.npy")), "memory embeddings are cached on disk"
+    assert list(tmp_path.glob("embeddings/*/*.npz")), "memory embeddings are cached on disk"
     prepared = care.prepare([probe.instruction], ScriptedLM(["done"]))[0]
     assert len(prepared.demonstrations) == 3 and prepared.notes["retrieved"].startswith(probe.id)
 
@@ -43,12 +46,18 @@ def test_ties_keep_the_lower_index() -> None:
 
 
 def _imported_modules(path: Path) -> set[str]:
+    """Every module `path` imports, at any depth (imports inside functions count), and every `module:attribute`
+    string it holds (a registry entry imports its module when it is looked up)."""
     names: set[str] = set()
     for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
         if isinstance(node, ast.Import):
             names |= {alias.name for alias in node.names}
         elif isinstance(node, ast.ImportFrom) and node.module:
             names.add(node.module)
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str):
+            target = re.fullmatch(r"([A-Za-z_][\w.]*):[A-Za-z_]\w*", node.value)
+            if target:
+                names.add(target.group(1))
     return names
 
 
@@ -57,21 +66,46 @@ BUILD_COMMANDS = {
     "build.py", "replay.py", "select.py", "markers.py", "push.py", "verify.py", "retrieval.py", "sample_page.py",
     "validate.py",
 }  # fmt: skip
-# The clarification track's simulated person speaks its answers with the dataset's own generator (issue 23: the
-# answer under the instruction's pattern and level), and the run spec records that generator's version.
-GENERATOR_USERS = {"talkdem/clarify/person.py", "talkdem/runs/spec.py"}
+RUNTIME = ["talkdem", "care", "perf", "evaluate_talkdem", "talk_dem.py"]
+"""The library, the CARE strategy, the performance checks, the `evaluate` entry point and the top-level
+`talk_dem` module: everything a user of the benchmark runs (the builders are for rebuilding the dataset)."""
 
 
-@pytest.mark.parametrize("package", ["talkdem", "care"])
-def test_nothing_at_run_time_imports_the_builders(package: str) -> None:
+@pytest.mark.parametrize("part", RUNTIME)
+def test_nothing_at_run_time_imports_the_builders(part: str) -> None:
+    root = repo_root() / part
+    files = sorted(root.rglob("*.py")) if root.is_dir() else [root]
+    assert files and all(path.is_file() for path in files)
     offenders = [
         str(path.relative_to(repo_root()))
-        for path in sorted((repo_root() / package).rglob("*.py"))
-        if not (path.parent.name == "cli" and path.name in BUILD_COMMANDS)
-        and str(path.relative_to(repo_root())) not in GENERATOR_USERS
+        for path in files
+        if not (path.parent == repo_root() / "talkdem" / "cli" and path.name in BUILD_COMMANDS)
         and any(name == "builders" or name.startswith("builders.") for name in _imported_modules(path))
     ]
     assert offenders == []
+
+
+def test_speaking_in_pattern_loads_no_builders_module() -> None:
+    # the source check sees what each file names; a fresh interpreter shows what speaking loads in turn
+    code = (
+        "import sys\n"
+        "from talkdem.speech import GenerationRequest, get_generator\n"
+        "from talkdem.tasks import load_tasks\n"
+        "task = load_tasks('benchmark')[0]\n"
+        "clean = get_generator('rules').generate([GenerationRequest(task, 'clean', 0, '', 1)])[0]\n"
+        "assert get_generator('rules').generate([GenerationRequest(task, 'topic_drift', 3, clean, 2)])[0]\n"
+        "print(sorted(m for m in sys.modules if m == 'builders' or m.startswith('builders.')))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=repo_root())
+    assert out.stdout.strip() == "[]"
+
+
+def test_the_import_check_sees_imports_inside_functions_and_registry_targets(tmp_path: Path) -> None:
+    module = tmp_path / "m.py"
+    module.write_text(
+        'def f():\n    from builders.build import build\n\nTARGET = "builders.generation.llm:LLMGenerator"\n'
+    )
+    assert _imported_modules(module) == {"builders.build", "builders.generation.llm"}
 
 
 def test_order_and_dedupe_options() -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from functools import cache
 
 import pytest
@@ -9,6 +10,7 @@ import pytest
 from talkdem.clarify import DONT_KNOW, SimulatedPerson, Slot, leaked_slots, oracle_answer, slot_type
 from talkdem.instructions import Instruction, load_instructions
 from talkdem.skills import natural_name
+from talkdem.speech import GenerationRequest
 from talkdem.tasks import Task, get_task
 
 
@@ -75,8 +77,8 @@ def test_none_is_no_person() -> None:
 
 @cache
 def _object_names() -> tuple[str, ...]:
-    from builders.lexicon import ALIASES
     from talkdem.skills import categories
+    from talkdem.speech.lexicon import ALIASES
 
     names = {natural_name(kind) for kind in categories().findable} | {a for v in ALIASES.values() for a in v}
     return tuple(sorted(names, key=len, reverse=True))
@@ -131,15 +133,15 @@ class _Echo:
     prompt_version = "1"
 
     def __init__(self) -> None:
-        self.requests: list[object] = []
+        self.requests: list[GenerationRequest] = []
 
-    def generate(self, requests: list[object]) -> list[str]:
+    def generate(self, requests: Sequence[GenerationRequest]) -> list[str]:
         self.requests += requests
-        return [f"{r.clean} ({r.pattern} {r.level})" for r in requests]  # type: ignore[attr-defined]
+        return [f"{r.clean} ({r.pattern} {r.level})" for r in requests]
 
 
 def test_in_pattern_answers_come_from_the_generator_named_through_its_interface() -> None:
-    from builders.generation import register_generator
+    from talkdem.speech import register_generator
 
     echo = _Echo()
     register_generator("echo-test", lambda: echo)
@@ -149,5 +151,5 @@ def test_in_pattern_answers_come_from_the_generator_named_through_its_interface(
     lamp = oracle_answer(task, Slot.LAMP)
     assert exchange.answer == f"{lamp} (topic_drift 3)" and exchange.in_pattern
     (request,) = echo.requests
-    assert request.task.pddl_params.object_target == task.pddl_params.toggle_target  # type: ignore[attr-defined]
-    assert request.task.pddl_params.toggle_target == task.pddl_params.object_target  # type: ignore[attr-defined]
+    assert request.task.pddl_params.object_target == task.pddl_params.toggle_target
+    assert request.task.pddl_params.toggle_target == task.pddl_params.object_target

@@ -70,7 +70,7 @@ def test_truncated_checkpoint_line_is_recovered(reference_build: BuildResult, tm
     # a checkpoint with 3 finished units and half of a fourth, as a kill during a write leaves it
     lines = []
     from builders.build import build_unit, checkpoint_header
-    from builders.generation import get_generator
+    from talkdem.speech import get_generator
     from talkdem.tasks import load_tasks
 
     gen = get_generator("rules")
@@ -131,7 +131,7 @@ def test_two_builds_on_one_checkpoint(tmp_path: Path) -> None:
 
 def test_another_seed_gives_other_utterances(tmp_path: Path) -> None:
     from builders.build import build_unit
-    from builders.generation import get_generator
+    from talkdem.speech import get_generator
     from talkdem.tasks import load_tasks
 
     task = load_tasks("benchmark")[0]
@@ -145,18 +145,24 @@ def test_failing_variants_are_regenerated_then_kept_with_their_checks() -> None:
     from collections.abc import Sequence
 
     from builders.build import build_unit
-    from builders.generation import GenerationRequest, RulesGenerator
     from builders.verification.stats import verification_stats
+    from talkdem.speech import GenerationRequest
+    from talkdem.speech.rules_v3 import RulesV3Generator
     from talkdem.tasks import load_tasks
 
-    class Flaky(RulesGenerator):
-        """Drops the target on a first attempt (topic drift) and always (intrusion level 3)."""
+    class Flaky:
+        """The rules generator's first draw, with the target dropped on a first attempt (topic drift) and
+        always (intrusion level 3). One utterance per request: no `generate_candidates` to draw around it."""
+
+        name = "rules"
 
         def __init__(self) -> None:
+            self.rules = RulesV3Generator()
+            self.prompt_version = self.rules.prompt_version
             self.seen: set[tuple[str, int]] = set()
 
         def generate(self, requests: Sequence[GenerationRequest]) -> list[str]:
-            out = super().generate(requests)
+            out = self.rules.generate(requests)
             for i, r in enumerate(requests):
                 first = (r.pattern, r.level) not in self.seen and r.pattern == "topic_drift"
                 self.seen.add((r.pattern, r.level))
@@ -229,7 +235,7 @@ def test_a_different_build_never_deletes_or_reuses_a_checkpoint(
     assert checkpoint.read_bytes() == torn
     # The same build's settings still find its 3 finished units (resuming it in full takes a minute).
     from builders.build import checkpoint_header
-    from builders.generation import get_generator
+    from talkdem.speech import get_generator
     from talkdem.tasks import load_tasks
 
     checkpoint.write_bytes(saved)
@@ -239,7 +245,7 @@ def test_a_different_build_never_deletes_or_reuses_a_checkpoint(
 
 def test_workers_write_the_same_bytes_as_one_process(tmp_path: Path) -> None:
     from builders.build import build_unit, checkpoint_header
-    from builders.generation import get_generator
+    from talkdem.speech import get_generator
     from talkdem.tasks import load_tasks
 
     one = build(tmp_path / "one", checkpoint=tmp_path / "one.jsonl", progress=False, limit=6)
@@ -258,7 +264,7 @@ def test_workers_write_the_same_bytes_as_one_process(tmp_path: Path) -> None:
 
 
 def test_workers_need_the_generator_by_name(tmp_path: Path) -> None:
-    from builders.generation import get_generator
+    from talkdem.speech import get_generator
 
     with pytest.raises(ValueError, match="needs the generator by name"):
         build(tmp_path / "out", generator=get_generator("rules"), progress=False, limit=1, workers=2)

@@ -1,4 +1,4 @@
-"""The rules generator: deterministic, varied, scene-grounded, task-preserving."""
+"""The rules generator (`rules`: rules-v3): deterministic, varied, scene-grounded, task-preserving; the registry."""
 
 from __future__ import annotations
 
@@ -8,8 +8,9 @@ from collections import Counter
 import pytest
 
 import talk_dem
-from builders.generation import GenerationRequest, RulesGenerator, derive_seed, get_generator
-from builders.lexicon import find_mentions
+from talkdem.speech import GenerationRequest, derive_seed, get_generator
+from talkdem.speech.lexicon import find_mentions
+from talkdem.speech.rules_v3 import RulesV3Generator
 from talkdem.tasks import Task, load_tasks
 
 
@@ -19,7 +20,7 @@ def tasks() -> tuple[Task, ...]:
 
 
 def generate(task: Task, pattern: str, level: int, seed: int = 0) -> str:
-    gen = RulesGenerator()
+    gen = RulesV3Generator()
     clean = gen.generate_one(GenerationRequest(task, "clean", 0, "", derive_seed(seed, task.task_id, "clean", 0, 1)))
     if pattern == "clean":
         return clean
@@ -64,7 +65,7 @@ def test_inserted_objects_come_from_the_scene(tasks: tuple[Task, ...]) -> None:
 def test_level_meanings_are_documented() -> None:
     for pattern in talk_dem.PATTERNS.values():
         assert set(pattern.levels) == {1, 2, 3}
-        method = getattr(RulesGenerator, pattern.config)
+        method = getattr(RulesV3Generator, pattern.config)
         assert all(f"L{level}" in (method.__doc__ or "") for level in (1, 2, 3))
 
 
@@ -74,12 +75,13 @@ def test_registry_names_unknown_generators() -> None:
         get_generator("gpt-99")
 
 
-def test_substituted_nouns_take_agreeing_articles() -> None:
-    # the target's "a cooled" must not stay in front of a mass noun, nor "an" in front of a consonant
-    assert RulesGenerator._np("a", "cooled", "bread") == "some cooled bread"
-    assert RulesGenerator._np("an", "", "mug") == "a mug"
-    assert RulesGenerator._np("a", "", "apple") == "an apple"
-    assert RulesGenerator._np("the", "", "keys") == "the keys"
+def test_the_retired_rules_v2_names_the_commit_that_has_it() -> None:
+    with pytest.raises(ValueError) as refused:
+        get_generator("rules-v2")
+    message = str(refused.value)
+    assert "\n" not in message
+    assert "retired" in message and "500d9bf" in message and "builders/generation/rules.py" in message
+    assert "current generator is 'rules' (rules-v3)" in message
 
 
 def test_generated_variants_repeat_no_opener_and_keep_articles(tasks: tuple[Task, ...]) -> None:
@@ -92,3 +94,12 @@ def test_generated_variants_repeat_no_opener_and_keep_articles(tasks: tuple[Task
                 text = generate(task, pattern, level)
                 assert not repeated_opener(text), text
                 assert article_errors(text, clean) == 0, text
+
+
+def test_the_build_command_refuses_rules_v2_in_one_line(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    from talkdem.cli import main
+
+    assert main(["build", "--generator", "rules-v2", "--out", str(tmp_path / "out"), "--limit", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("talkdem build: error: generator 'rules-v2' is retired")
+    assert "500d9bf" in err and not (tmp_path / "out").exists()

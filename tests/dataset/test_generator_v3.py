@@ -2,29 +2,27 @@
 
 from __future__ import annotations
 
-import json
 import random
 import re
 from collections import defaultdict
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
 import pytest
 
 from builders.build import _generate_verified, build_unit
-from builders.generation import GenerationRequest, derive_seed, get_generator
-from builders.generation import phrases_v3 as V
-from builders.generation.forms import FORMS, definitions_table
-from builders.generation.object_kinds import KINDS, OBJECT_KINDS, kinds_of, noun
-from builders.generation.personas import persona_for
 from builders.generation.ranking import Ranker, choose, load_ranker
-from builders.generation.rules_v3 import RulesV3Generator, unnamed_target_tasks
-from builders.lexicon import STATE_WORDS, TASK_VERBS, find_mentions, word_spans
 from builders.markers.measures import sentences
 from builders.markers.variety import added_sentences, article_errors
 from builders.verification import verify
 from talkdem.llm.interface.requests import LoglikelihoodRequest
+from talkdem.speech import GenerationRequest, derive_seed, get_generator
+from talkdem.speech import phrases_v3 as V
+from talkdem.speech.forms import FORMS, definitions_table
+from talkdem.speech.lexicon import STATE_WORDS, TASK_VERBS, find_mentions, word_spans
+from talkdem.speech.object_kinds import KINDS, OBJECT_KINDS, kinds_of, noun
+from talkdem.speech.personas import persona_for
+from talkdem.speech.rules_v3 import RulesV3Generator, unnamed_target_tasks
 from talkdem.tasks import Task, load_tasks
 
 UNNAMED = ("trial_T20190907_215139_316260", "trial_T20190909_005222_878222", "trial_T20190911_120324_851568")
@@ -59,22 +57,9 @@ def _variants(rows: dict[str, list[dict[str, Any]]]) -> list[dict[str, Any]]:
     return [r for unit in rows.values() for r in unit if r["pattern"] != "clean"]
 
 
-def test_the_default_is_v3_and_v2_stays_loadable() -> None:
-    assert get_generator("rules").prompt_version == "rules-v3"
-    assert get_generator("rules-v2").prompt_version == "rules-v2"
-    assert get_generator("rules-v2").name == get_generator("rules").name == "rules"
-
-
-def test_rules_v2_writes_the_shipped_rows_byte_for_byte(tasks: tuple[Task, ...]) -> None:
-    # The rows of six tasks as data/ shipped them under rules-v2 (commit 9146e8e, before the rules-v3 rebuild).
-    shipped = json.loads((Path(__file__).parent / "golden" / "rules_v2_rows.json").read_text(encoding="utf-8"))
-    gen = get_generator("rules-v2")
-    chosen = tasks[:: 300 // 6]
-    assert len(shipped) == 16 * len(chosen)
-    for task in chosen:
-        for row in build_unit(gen, task, 0):
-            assert [row["instruction"], row["seed"]] == shipped[row["id"]], row["id"]
-            assert row["ranking"]["candidates"] == 1
+def test_the_default_is_v3() -> None:
+    assert get_generator("rules").prompt_version == get_generator("rules-v3").prompt_version == "rules-v3"
+    assert get_generator("rules").name == "rules"
 
 
 def test_the_grammar_errors_of_rules_v2_are_absent(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
@@ -361,7 +346,7 @@ def test_drift_never_names_the_destination_in_a_frame(v3_rows: dict[str, list[di
 
 def test_intrusions_do_not_cut_between_a_verb_and_its_object(v3_rows: dict[str, list[dict[str, Any]]]) -> None:
     """ "turn on a lamp while holding, oh, what day is it? Anyhow, a book": the cut follows an object's name."""
-    from builders.task_terms import task_terms
+    from talkdem.speech.task_terms import task_terms
 
     tasks = {t.task_id: t for t in load_tasks("benchmark")}
     cut_after_object = total = 0

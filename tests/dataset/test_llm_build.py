@@ -8,9 +8,9 @@ from __future__ import annotations
 import pytest
 
 from builders.build import build_unit
-from builders.generation import GenerationRequest
 from builders.generation.llm import LLMGenerator
 from talkdem.llm.backends.hf import HFCausalLM
+from talkdem.speech import GenerationRequest
 from talkdem.tasks import get_task
 
 POTATO = "trial_T20190909_152050_792044"

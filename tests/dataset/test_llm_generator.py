@@ -8,9 +8,9 @@ import re
 import pytest
 
 import talk_dem
-from builders.generation import GenerationRequest
 from builders.generation.llm import PROMPTS_DIR, LLMGenerator, room_of, scene_list
 from talkdem.llm.interface.requests import GenerateRequest
+from talkdem.speech import GenerationRequest
 from talkdem.tasks import get_task
 
 POTATO = "trial_T20190909_152050_792044"

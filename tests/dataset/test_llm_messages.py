@@ -13,7 +13,6 @@ import pytest
 
 import talk_dem
 from builders.build import build, build_unit_logged
-from builders.generation import GenerationRequest, RulesGenerator
 from builders.generation.llm import (
     ECHO_OF_INPUT,
     ECHO_OF_PROMPT,
@@ -30,6 +29,8 @@ from builders.generation.llm import (
 from builders.reporting.llm_sample import pick_tasks, run_sample, summarize
 from builders.reporting.llm_stats import card_section, generation_stats, sample_card_section
 from talkdem.llm.interface.requests import GenerateRequest
+from talkdem.speech import GenerationRequest
+from talkdem.speech.rules_v3 import RulesV3Generator
 from talkdem.tasks import get_task, load_tasks
 
 POTATO = "trial_T20190909_152050_792044"
@@ -156,7 +157,7 @@ def test_echoes_of_the_input_and_of_the_prompt_are_found() -> None:
 def test_no_rules_utterance_counts_as_an_echo() -> None:
     # The detector must not fail honest rewrites: every utterance of the rules generator for six tasks
     # (one per task type) against its own prompt.
-    rules, gen = RulesGenerator(), LLMGenerator(Scripted(lambda r, n: ""))
+    rules, gen = RulesV3Generator(), LLMGenerator(Scripted(lambda r, n: ""))
     for task in pick_tasks(1):
         clean = rules.generate([GenerationRequest(task, "clean", 0, "", 3)])[0]
         requests = [GenerationRequest(task, "clean", 0, "", 3)] + [
@@ -167,7 +168,7 @@ def test_no_rules_utterance_counts_as_an_echo() -> None:
 
 
 # --- attempts, failure reasons and statistics ----------------------------------------------------------------
-def _three_attempt_answers(rules: RulesGenerator, task_id: str) -> Callable[[GenerateRequest, int], str]:
+def _three_attempt_answers(rules: RulesV3Generator, task_id: str) -> Callable[[GenerateRequest, int], str]:
     """Attempt 1 of every variant echoes its input, attempt 2 is cut-off JSON, attempt 3 is a good rewrite (the
     rules generator's, at the same cell); clean controls are good at once."""
     task = get_task(task_id)
@@ -208,7 +209,7 @@ def _cell_of(request: GenerateRequest) -> tuple[str, int]:
 
 
 def test_echoes_and_unparsable_answers_fail_are_regenerated_and_counted_per_attempt() -> None:
-    rules = RulesGenerator()
+    rules = RulesV3Generator()
     backend = Scripted(_three_attempt_answers(rules, POTATO))
     gen = LLMGenerator(backend)
     rows, log = build_unit_logged(gen, get_task(POTATO), 0)
@@ -245,7 +246,7 @@ def test_echoes_and_unparsable_answers_fail_are_regenerated_and_counted_per_atte
 
 
 def test_the_card_fragment_reports_the_attempts_and_escapes_what_it_embeds() -> None:
-    backend = Scripted(_three_attempt_answers(RulesGenerator(), POTATO))
+    backend = Scripted(_three_attempt_answers(RulesV3Generator(), POTATO))
     rows, log = build_unit_logged(LLMGenerator(backend), get_task(POTATO), 0)
     stats = generation_stats(rows, [log])
     shown = [{**rows[1], "instruction": "a | b <script>"}]
@@ -259,7 +260,7 @@ def test_the_card_fragment_reports_the_attempts_and_escapes_what_it_embeds() -> 
 
 def test_the_card_takes_an_llm_builds_own_figures_else_the_committed_sample(tmp_path: Path) -> None:
     assert "Not measured" in sample_card_section({}, tmp_path)
-    backend = Scripted(_three_attempt_answers(RulesGenerator(), POTATO))
+    backend = Scripted(_three_attempt_answers(RulesV3Generator(), POTATO))
     rows, log = build_unit_logged(LLMGenerator(backend), get_task(POTATO), 0)
     stats = generation_stats(rows, [log])
     assert "Measured on this build." in sample_card_section({"generation": stats}, tmp_path)

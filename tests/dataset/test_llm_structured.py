@@ -10,12 +10,12 @@ import re
 import pytest
 
 from builders.build import build_unit_logged
-from builders.generation import GenerationRequest
 from builders.generation.llm import ECHO_OF_INPUT, ECHO_OF_PROMPT, OUTPUT_FIELD, UNPARSABLE_OUTPUT, LLMGenerator
 from builders.reporting.llm_stats import generation_stats
 from talkdem.llm.backends.llamacpp import LlamaCppLM
 from talkdem.llm.interface.models import FAST_TEST_MODEL
 from talkdem.llm.interface.requests import GenerateRequest
+from talkdem.speech import GenerationRequest
 from talkdem.tasks import get_task
 
 POTATO = "trial_T20190909_152050_792044"

@@ -56,7 +56,7 @@ def test_a_ranked_build_replays_to_the_same_bytes(ranked: BuildResult, tmp_path:
     assert dataset_files(tmp_path / "replayed") == dataset_files(ranked.folder)
     # the rows read back are the build's own (class labels by name, nulls kept), ready to build from
     from builders.build import build_unit
-    from builders.generation import get_generator
+    from talkdem.speech import get_generator
     from talkdem.tasks import load_tasks
 
     task = load_tasks("benchmark")[0]

@@ -11,10 +11,10 @@ from builders.markers.variety import (
     added_sentences,
     article_errors,
     cell_variety,
-    openers,
     repeated_opener,
 )
 from talkdem.paths import repo_root
+from talkdem.speech.cues import openers
 
 DATA = repo_root() / "data"
 

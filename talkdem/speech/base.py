@@ -1,8 +1,13 @@
-"""The generator interface: requests as data, one batched call.
+"""The generator interface: requests as data, one batched call; the registry of generators by name.
 
 A generator turns `GenerationRequest`s into utterances. The build collects every request of a task
 (the clean control, then the fifteen pattern variants, then any regenerations) and calls the generator
-once per batch, so an LLM backend can batch them and the rules generator simply loops.
+once per batch, so an LLM backend can batch them and the rules generator simply loops. The simulated person
+of the clarification track (`talkdem.clarify.person`) speaks its in-pattern answers through the same call.
+
+The registry knows the rule-based generators, which need no model. The LLM generator is a dataset builder
+(`builders/generation/llm.py`) and registers itself here when `builders.generation` is imported, so that only
+the dataset-building commands reach it.
 """
 
 from __future__ import annotations
@@ -12,16 +17,18 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-from talkdem.registry import Registry
+from talkdem.registry import Registry, UnknownNameError
 from talkdem.schema import CLEAN
 from talkdem.tasks import Task
 
 __all__ = [
     "CLEAN",
-    "CheckedGenerator",
+    "CURRENT_GENERATOR",
+    "RETIRED",
     "Generated",
     "GenerationRequest",
     "Generator",
+    "check_generator_name",
     "derive_seed",
     "generate_checked",
     "get_generator",
@@ -74,18 +81,9 @@ class Generated:
     verifier is not run on it, its failures are the generator's alone."""
 
 
-class CheckedGenerator(Generator, Protocol):
-    """A generator that reports its own failures (an LLM's unparsable or echoed outputs) and its costs."""
-
-    def generate_checked(self, requests: Sequence[GenerationRequest]) -> list[Generated]: ...
-
-    def usage(self) -> dict[str, float]:
-        """Running totals since creation (seconds, generations, tokens): the build logs each unit's share."""
-        ...
-
-
 def generate_checked(generator: Generator, requests: Sequence[GenerationRequest]) -> list[Generated]:
-    """`generator.generate_checked` when it has one, else its plain texts with no failures of their own."""
+    """`generator.generate_checked` when it has one (the LLM generator: its unparsable or echoed outputs), else
+    its plain texts with no failures of their own."""
     checked = getattr(generator, "generate_checked", None)
     if checked is not None:
         results: list[Generated] = checked(requests)
@@ -100,9 +98,18 @@ def derive_seed(base_seed: int, *parts: object) -> int:
 
 
 GENERATORS: Registry[Generator] = Registry("generator")
+GENERATORS.register("rules", "talkdem.speech.rules_v3:RulesV3Generator")  # the default: rules-v3
+GENERATORS.register("rules-v3", "talkdem.speech.rules_v3:RulesV3Generator")
+
+CURRENT_GENERATOR = "rules"
+"""The generator that builds the dataset by default (its phrase banks: `rules-v3`)."""
+
+RETIRED = {"rules-v2": ("500d9bf", "builders/generation/rules.py")}
+"""Retired generators -> (the commit where their code last lived, its path): git keeps it (`git show COMMIT:PATH`)."""
 
 
-def register_generator(name: str, factory: Callable[[], Generator]) -> None:
+def register_generator(name: str, factory: str | Callable[[], Generator]) -> None:
+    """Register a generator's factory, or its `module:attribute` (imported when the generator is asked for)."""
     GENERATORS.register(name, factory)
 
 
@@ -110,6 +117,19 @@ def registered_generators() -> tuple[str, ...]:
     return tuple(sorted(GENERATORS))
 
 
+def check_generator_name(name: str) -> None:
+    """Refuse a retired generator (naming the commit that has it) or an unknown one (listing the known)."""
+    if name in RETIRED:
+        commit, path = RETIRED[name]
+        raise UnknownNameError(
+            f"generator '{name}' is retired: its code last lived in commit {commit} "
+            f"(git show {commit}:{path}); the current generator is '{CURRENT_GENERATOR}' "
+            f"({GENERATORS.create(CURRENT_GENERATOR).prompt_version})"
+        )
+    GENERATORS.entry(name)
+
+
 def get_generator(name: str) -> Generator:
-    """A generator by registry name; unknown names list the known ones."""
+    """A generator by registry name; a retired name names its last commit, unknown names list the known ones."""
+    check_generator_name(name)
     return GENERATORS.create(name)

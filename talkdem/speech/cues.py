@@ -1,14 +1,16 @@
-"""Closed word lists the structural checks look for: vague references, repairs, empty speech.
+"""Closed word lists the structural checks look for: vague references, repairs, empty speech; sentence openers.
 
 The rules generator draws its wording from richer phrase banks, but everything it inserts for a pattern
-contains one of these cues, and an LLM generator's output is held to the same lists.
+contains one of these cues, and an LLM generator's output is held to the same lists (the verifier in
+`builders/verification` reads them from here). The generator varies its sentences' lead-ins (`openers`), which
+the verifier checks as well.
 """
 
 from __future__ import annotations
 
 import re
 
-__all__ = ["EMPTY_SPEECH", "REPAIR", "SENTENCE_BREAK", "VAGUE", "find_all"]
+__all__ = ["EMPTY_SPEECH", "REPAIR", "SENTENCE_BREAK", "VAGUE", "find_all", "openers"]
 
 VAGUE = re.compile(
     r"\b(?:thing|things|thingy|thingamajig|thingamabob|whatsit|whatchamacallit|doodad|gizmo|"
@@ -41,3 +43,21 @@ SENTENCE_BREAK = re.compile(r"[.!?](?=\s|$)")
 
 def find_all(pattern: re.Pattern[str], text: str) -> list[tuple[int, int]]:
     return [(m.start(), m.end()) for m in pattern.finditer(text)]
+
+
+_OPENER_WORDS = 3
+
+
+def openers(text: str) -> list[str]:
+    """Each sentence's opener: the lowercased words before its first comma, when there are at most three.
+
+    "Mind you, the garden ..." -> "mind you"; "Where was I? Oh yes, in the light." -> "oh yes" (second sentence).
+    Sentences without such a lead-in have none.
+    """
+    out = []
+    for sentence in re.split(r"(?<=[.!?])\s+", text.strip()):
+        head, comma, _ = sentence.partition(",")
+        words = re.findall(r"[\w']+", head.lower())
+        if comma and 0 < len(words) <= _OPENER_WORDS:
+            out.append(" ".join(words))
+    return out

@@ -1,9 +1,9 @@
 """The `rules-v3` generator: one speaker per task, typed fills, forms drawn from ranges, K candidates.
 
-Step 1 (the clean control) is `rules-v2`'s conversationalization, so the clean controls do not change, with one
-fix: a seed that does not name its target (ALFRED annotators wrote "the cup" for toilet paper, "gray try" for a
-plate with a knife) gets one plain sentence naming it ("It's the toilet paper I'm after."), so that a pattern
-variant never gives away a target the clean control withholds, and never asks for a second object.
+Step 1 (the clean control) is `rules-v2`'s conversationalization (`clean_control`), so the clean controls do not
+change, with one fix: a seed that does not name its target (ALFRED annotators wrote "the cup" for toilet paper,
+"gray try" for a plate with a knife) gets one plain sentence naming it ("It's the toilet paper I'm after."), so
+that a pattern variant never gives away a target the clean control withholds, and never asks for a second object.
 
 Step 2 draws the form of each utterance from `forms.FORMS` (how many sentences, where the material sits), its
 wording from the parts in `phrases_v3.py`, the speaker from `personas.persona_for(task_id)`, and every object
@@ -11,7 +11,7 @@ it brings in from the task's scene through the typed lexicon (`object_kinds`): a
 thing it can take, so a memory is never about a butter knife behind which children hid.
 
 `generate_candidates` draws K utterances per request, each with its own seed derived from the request's; the
-build keeps those that pass verification and ranks them (`builders.generation.ranking`).
+dataset build keeps those that pass verification and ranks them (`builders/generation/ranking.py`).
 """
 
 from __future__ import annotations
@@ -21,18 +21,16 @@ import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
-from builders.generation import phrases_v3 as V
-from builders.generation.base import CLEAN, GenerationRequest, derive_seed
-from builders.generation.forms import chance, draw
-from builders.generation.object_kinds import Noun, kinds_of, noun
-from builders.generation.personas import Persona, persona_for
-from builders.generation.rules import RulesGenerator
-from builders.lexicon import mentions_of
-from builders.markers.variety import openers
-from builders.task_terms import noun_phrase, task_terms
-from builders.verification.checks import Context
-from builders.verification.cues import EMPTY_SPEECH, REPAIR
 from talkdem.skills import categories
+from talkdem.speech import clean_control
+from talkdem.speech import phrases_v3 as V
+from talkdem.speech.base import CLEAN, GenerationRequest, derive_seed
+from talkdem.speech.cues import EMPTY_SPEECH, REPAIR, openers
+from talkdem.speech.forms import chance, draw
+from talkdem.speech.lexicon import mentions_of
+from talkdem.speech.object_kinds import Noun, kinds_of, noun
+from talkdem.speech.personas import Persona, persona_for
+from talkdem.speech.task_terms import noun_phrase, request_span, task_terms
 from talkdem.tasks import Task
 
 __all__ = ["DEFAULT_CANDIDATES", "RulesV3Generator", "unnamed_target_tasks"]
@@ -159,7 +157,6 @@ class RulesV3Generator:
         if candidates < 1:
             raise ValueError(f"candidates must be a positive number, got {candidates}")
         self.candidates = candidates
-        self._v2 = RulesGenerator()  # the clean control and the request's phrase boundaries are rules-v2's
 
     def generate(self, requests: Sequence[GenerationRequest]) -> list[str]:
         """The first candidate of each request (the one drawn with the request's own seed)."""
@@ -195,7 +192,7 @@ class RulesV3Generator:
     def conversationalize(self, task: Task, rng: random.Random) -> str:
         """rules-v2's clean control; a seed without its target gets one sentence naming it."""
         # a seed's doubled word ("put a a warm plate") is a typo the speaker would not say
-        text = re.sub(r"\b(a|an|the) \1\b", r"\1", self._v2.conversationalize(task, rng), flags=re.IGNORECASE)
+        text = re.sub(r"\b(a|an|the) \1\b", r"\1", clean_control.conversationalize(task, rng), flags=re.IGNORECASE)
         terms = task_terms(task)
         if "target" in terms.seed_roles:
             return text
@@ -208,7 +205,7 @@ class RulesV3Generator:
         return f"{text} {naming}"
 
     def _parts(self, task: Task, clean: str) -> _Parts:
-        split = self._v2._split(task, clean)
+        split = clean_control.split(task, clean)
         end, naming, closing = split.end, split.closing, ""
         found = _CLOSING.search(end)
         if found:
@@ -261,7 +258,7 @@ class RulesV3Generator:
 
     def _typed_objects(self, task: Task, pickupable_only: bool = False) -> list[str]:
         pool = set(categories().pickupable) if pickupable_only else None
-        return [c for c in RulesGenerator._scene_candidates(task, pool) if kinds_of(c)]
+        return [c for c in clean_control.scene_candidates(task, pool) if kinds_of(c)]
 
     # --- Referential Imprecision ----------------------------------------------------------------------------------
     def referential_imprecision(self, task: Task, parts: _Parts, level: int, rng: random.Random, who: Persona) -> str:
@@ -440,7 +437,7 @@ class RulesV3Generator:
         """L1 one filler inside the request; L2 two or three, and empty sentences; L3 more, around the request."""
         del who  # empty speech says nothing personal
         body = parts.body
-        points = RulesGenerator._insertion_points(task, body)
+        points = clean_control.insertion_points(task, body)
         inside = draw(rng, "empty_speech", level, "fillers inside the request")
         # mostly discourse markers, sometimes a stock phrase (the paper's empty speech is marker-heavy)
         said: set[str] = set()  # no filler word twice in one utterance
@@ -474,7 +471,7 @@ class RulesV3Generator:
                 )
                 if all(len(c.split(", ")) == 1 for c in words):
                     break
-            body = RulesGenerator._insert(body, at, ", ".join(words))
+            body = clean_control.insert(body, at, ", ".join(words))
         count = draw(rng, "empty_speech", level, "empty sentences")
         sentences = [self._empty_sentence(rng, said, level == 3 and rng.random() < 0.7) for _ in range(count)]
         before: list[str] = []
@@ -583,8 +580,8 @@ class RulesV3Generator:
         """L1 a short off-task thought mid-request; L2 a longer one; L3 fragments, a restatement, a second thought."""
         fields = self._fields(who)
         body = parts.body
-        points = RulesGenerator._insertion_points(task, body)
-        span = Context(task, CLEAN, 0, body).request_span
+        points = clean_control.insertion_points(task, body)
+        span = request_span(task_terms(task), body)
         start = span[0] if span else 0
         # never between a verb and its object ("while holding, oh, ... a book"): right after a task object's
         # name, else (no boundary follows one) not straight after the first word

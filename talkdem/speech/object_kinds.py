@@ -12,9 +12,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 
-from builders.lexicon import display_name
+from talkdem.speech.lexicon import display_name
 
-__all__ = ["KINDS", "OBJECT_KINDS", "Noun", "kinds_of", "noun", "of_kinds"]
+__all__ = ["KINDS", "OBJECT_KINDS", "Noun", "kinds_of", "noun"]
 
 KINDS: dict[str, str] = {
     "food": "something to eat (fruit, vegetables, bread, eggs)",
@@ -237,8 +237,3 @@ def noun(object_type: str) -> Noun:
 
 def kinds_of(object_type: str) -> frozenset[str]:
     return OBJECT_KINDS.get(object_type, frozenset())
-
-
-def of_kinds(candidates: list[str], kinds: frozenset[str]) -> list[str]:
-    """The candidates (in order) that are of at least one of `kinds`."""
-    return [c for c in candidates if kinds_of(c) & kinds]

@@ -11,10 +11,21 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from builders.lexicon import STATE_WORDS, TASK_VERBS, Mention, mentions_of, word_spans
+from talkdem.speech.lexicon import STATE_WORDS, TASK_VERBS, Mention, mentions_of, word_spans
 from talkdem.tasks import Task
 
-__all__ = ["ROLES", "TaskTerms", "noun_phrase", "request_body", "state_kind", "task_terms", "verb_lemma"]
+__all__ = [
+    "ROLES",
+    "TaskTerms",
+    "noun_phrase",
+    "request_body",
+    "request_span",
+    "span_of",
+    "state_kind",
+    "task_terms",
+    "term_positions",
+    "verb_lemma",
+]
 
 ROLES = ("target", "destination", "container", "toggle")
 """Task roles an utterance must name: the object, its destination, the movable container, the lamp."""
@@ -84,6 +95,34 @@ def _task_terms(task: Task) -> TaskTerms:
         state_kinds=frozenset(_STATE_FORMS[w] for w in states),
         seed_words=frozenset(words),
     )
+
+
+def term_positions(terms: TaskTerms, text: str) -> dict[str, list[int]]:
+    """Required term -> start offsets of its occurrences in `text` (each task verb in any inflection, each
+    state word, each object role the seed names)."""
+    positions: dict[str, list[int]] = {}
+    words = word_spans(text)
+    for lemma in terms.verbs:
+        positions[f"verb:{lemma}"] = [s for w, s, _ in words if verb_lemma(w) == lemma]
+    for state in terms.state_words:
+        positions[f"state:{state}"] = [s for w, s, _ in words if w == state]
+    for role in terms.seed_roles:
+        positions[f"role:{role}"] = [m.start for m in mentions_of(text, terms.role_types[role])]
+    return positions
+
+
+def request_span(terms: TaskTerms, text: str) -> tuple[int, int] | None:
+    """The request inside `text`: (first task-term start, start of the term that completes the request);
+    None if a term is missing. The generator inserts its asides inside it, the verifier checks them there."""
+    return span_of(term_positions(terms, text))
+
+
+def span_of(positions: dict[str, list[int]]) -> tuple[int, int] | None:
+    """`request_span` from `term_positions`' result (for a caller that already has them)."""
+    firsts = [occ[0] for occ in positions.values() if occ]
+    if not firsts or len(firsts) < len(positions):
+        return None
+    return min(firsts), max(firsts)
 
 
 def state_kind(word: str) -> str | None:
