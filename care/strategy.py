@@ -23,6 +23,7 @@ from care.retrieval import top_k
 from talkdem.embeddings import ENCODER_NAME
 from talkdem.instructions import MemoryItem, load_memory_bank
 from talkdem.llm.interface.base import LanguageModel
+from talkdem.llm.interface.options import BackendOption
 from talkdem.planner.prompt import Demonstration, prompt_text
 from talkdem.planner.strategies import PlannerInput, Strategy
 
@@ -39,6 +40,10 @@ def _minilm() -> Encoder:
 
 class ContextAwareRetrieval(Strategy):
     name = "care"
+    arguments = (
+        BackendOption("order", "choice", "where the most similar item goes", choices={o: o for o in get_args(Order)}),
+        BackendOption("dedupe", "bool", "at most one retrieved item per memory task"),
+    )
 
     def __init__(
         self,

@@ -68,14 +68,13 @@ def sweep(args: argparse.Namespace) -> int:
     if args.dry_run:
         print(describe(spec, workers=args.workers, threads=args.threads, shards=args.shards, ray=args.ray is not None))
         return 0
-    extra = ["--continue-on-new-revision"] if args.continue_on_new_revision else []
     result = run_sweep(
         spec,
         workers=args.workers,
         threads=args.threads,
         shards=args.shards,
         ray=args.ray,
-        extra=extra,
+        continue_on_new_revision=args.continue_on_new_revision,
         progress=not args.no_progress,
     )
     for model, (loads, jobs) in result.model_loads.items():

@@ -8,11 +8,13 @@ as `module:Class` and imported lazily (CARE lives in the top-level `care/` packa
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 from talkdem.instructions import MemoryItem, load_memory_bank
 from talkdem.llm.interface.base import LanguageModel
+from talkdem.llm.interface.options import BackendOption, OptionValue, parse_options
 from talkdem.planner.decoding import MAX_NEW_TOKENS, StepDecoding
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import EXAMPLE_PREFIX, HUMAN_PREFIX, Demonstration, prompt_head, prompt_text
@@ -30,6 +32,9 @@ __all__ = [
     "Vanilla",
     "fixed_icl_demonstrations",
     "load_strategy",
+    "strategies_with_option",
+    "strategy_args",
+    "strategy_options",
 ]
 
 
@@ -53,6 +58,9 @@ class PlannerInput:
 
 class Strategy(ABC):
     name: str
+    arguments: ClassVar[tuple[BackendOption, ...]] = ()
+    """The constructor options a user may set (`--strategy-arg KEY=VALUE`, a sweep strategy's `args:`), declared
+    as backends declare theirs: each names a keyword of the constructor and the type its text is parsed to."""
 
     @abstractmethod
     def prepare(self, instructions: Sequence[str], model: LanguageModel) -> list[PlannerInput]:
@@ -86,11 +94,19 @@ def _decoding(max_new_tokens: int, chat: bool) -> StepDecoding:
     return StepDecoding(max_new_tokens=max_new_tokens, chat=chat)
 
 
+_GENERATION_ARGUMENTS = (
+    BackendOption("max_new_tokens", "int", "token budget of the generated text (default: measured)", minimum=1),
+    BackendOption("chat", "bool", "false: continue the prompt as plain text, as REI-Bench does"),
+)
+"""CoT's and TOCC's options: the names their header records (`config.strategy_args`)."""
+
+
 class ChainOfThought(Strategy):
     """CoT (REI-Bench's CoT with the paper's question): the SayCan prompt through the query, then the
     question; the answer goes after the query as `Hint: <answer>`, the original instruction stays."""
 
     name = "cot"
+    arguments = _GENERATION_ARGUMENTS
 
     def __init__(self, max_new_tokens: int = MAX_NEW_TOKENS, chat: bool = True) -> None:
         self.decoding = _decoding(max_new_tokens, chat)
@@ -116,6 +132,7 @@ class TaskOrientedContextCognition(Strategy):
     planner sees only the rewrite, labelled `Human:` as REI-Bench does, and never the original."""
 
     name = "tocc"
+    arguments = _GENERATION_ARGUMENTS
 
     def __init__(self, max_new_tokens: int = MAX_NEW_TOKENS, chat: bool = True) -> None:
         self.decoding = _decoding(max_new_tokens, chat)
@@ -185,3 +202,35 @@ STRATEGIES.register("care", "care.strategy:ContextAwareRetrieval", "CARE")
 def load_strategy(name: str, **options: object) -> Strategy:
     """Instantiate a registered strategy with its options; unknown names get a did-you-mean."""
     return STRATEGIES.create(name, **options)
+
+
+def strategy_options(name: str) -> tuple[BackendOption, ...]:
+    """The options strategy `name` declares (its class's module is imported, as a run of it would)."""
+    declared: tuple[BackendOption, ...] = getattr(STRATEGIES.factory(name), "arguments", ())
+    return declared
+
+
+def strategies_with_option(key: str) -> tuple[str, ...]:
+    """The strategies that declare option `key`, in registration order."""
+    return tuple(s for s in STRATEGIES.names() if any(o.name == key for o in strategy_options(s)))
+
+
+def strategy_args(name: str, items: Iterable[str]) -> dict[str, OptionValue]:
+    """`KEY=VALUE` strings as strategy `name`'s typed constructor options; ValueError, one line naming the key, for
+    a bad value, a key no strategy has (listing `name`'s keys) or a key of another strategy (naming those)."""
+    items = list(items)
+    if not items:
+        return {}  # no strategy module is imported for nothing
+    declared = strategy_options(name)
+    for item in items:
+        key = item.partition("=")[0].strip()
+        if key and all(option.name != key for option in declared):
+            owners = [s for s in strategies_with_option(key) if s != name]
+            if owners:
+                known = ", ".join(o.name for o in declared) or "none"
+                verb = "has" if len(owners) == 1 else "have"
+                raise ValueError(
+                    f"strategy arg '{key}': the {name} strategy has no such option (its options: {known}); "
+                    f"{' and '.join(owners)} {verb} it"
+                )
+    return parse_options(declared, items, owner=f"the {name} strategy", what="strategy arg", flag="--strategy-arg")

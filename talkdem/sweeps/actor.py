@@ -1,8 +1,8 @@
 """The Ray actor of a sweep: one per worker, holding its model (and strategies) loaded across every job it is
 given, so a model is loaded once per worker, not once per shard.
 
-A job runs `talkdem run` in the actor's process, through the same parser and code as the command (only the
-model and strategy loaders are the actor's cached ones), into a scratch folder on the actor's node: seeded
+A job runs its `RunConfig` in the actor's process, through the same code as `talkdem run` (`run_config`; only
+the model and strategy loaders are the actor's cached ones), into a scratch folder on the actor's node: seeded
 with what the driver holds of the job's run directory, and sent back whole when the job ends (finished or
 not), so the driver writes it into the sweep's folders whether or not the nodes share a file system.
 
@@ -14,9 +14,11 @@ from __future__ import annotations
 import contextlib
 import io
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from talkdem.runs.config import RunConfig
 from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, PACKED_EPISODES_FILE
 
 __all__ = ["EPISODE_FILES", "RUN_FILES", "ShardWorker"]
@@ -27,7 +29,7 @@ RUN_FILES = (HEADER_FILE, *EPISODE_FILES)
 
 
 class ShardWorker:
-    """Runs sweep jobs (`talkdem run` argument lists) with models and strategies kept loaded between them."""
+    """Runs sweep jobs (run configurations) with models and strategies kept loaded between them."""
 
     def __init__(self) -> None:
         self._models: dict[str, Any] = {}
@@ -58,11 +60,10 @@ class ShardWorker:
             self._strategies[key] = load_strategy(name, **options)
         return self._strategies[key]
 
-    def run_job(self, key: str, argv: list[str], seed: dict[str, bytes]) -> tuple[str, dict[str, bytes], str]:
-        """Run `talkdem run ARGV --out SCRATCH` (SCRATCH seeded with `seed`, the run directory's files); return
-        (key, the run directory's files, an error line or "")."""
-        from talkdem.cli.run import run
-        from talkdem.sweeps.spec import run_parser
+    def run_job(self, key: str, config: RunConfig, seed: dict[str, bytes]) -> tuple[str, dict[str, bytes], str]:
+        """Run `config` into SCRATCH (seeded with `seed`, the run directory's files); return (key, the run
+        directory's files, an error line or "")."""
+        from talkdem.runs.plan import run_config
 
         with tempfile.TemporaryDirectory(prefix="talkdem-sweep-") as scratch:
             target = Path(scratch) / "run"
@@ -75,9 +76,8 @@ class ShardWorker:
             self._current = (key, target)
             error = ""
             try:
-                args = run_parser().parse_args(["run", *argv, "--out", str(target)])
                 with contextlib.redirect_stdout(io.StringIO()):
-                    run(args, load=self._load, strategies=self._strategy)
+                    run_config(replace(config, out=target), load=self._load, strategies=self._strategy)
             except Exception as exc:  # sent back as one line: the driver records it and goes on
                 error = f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}"
             finally:

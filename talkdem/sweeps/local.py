@@ -32,7 +32,7 @@ def run_local(
     *,
     workers: int,
     threads: int | None,
-    extra: Sequence[str],
+    continue_on_new_revision: bool,
     progress: SweepProgress,
     talkdem: Sequence[str] = (),
 ) -> None:
@@ -51,7 +51,7 @@ def run_local(
                 logs.mkdir(parents=True, exist_ok=True)
                 log = logs / f"{job.key.replace(' ', '.').replace('/', '-of-')}.log"
                 handle: IO[bytes] = log.open("wb")
-                command = [*launcher, "run", *job.command(threads, extra)]
+                command = [*launcher, "run", *job.command(threads, continue_on_new_revision)]
                 process = subprocess.Popen(command, stdout=handle, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL)
                 running[job.key] = (job, process, log, handle)
             time.sleep(_POLL_SECONDS)

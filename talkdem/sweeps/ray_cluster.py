@@ -12,10 +12,10 @@ from __future__ import annotations
 import math
 import os
 import socket
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from talkdem.files import replace_file
 from talkdem.runs.store import HEADER_FILE, run_lock
 from talkdem.sweeps.actor import EPISODE_FILES, RUN_FILES, ShardWorker
 from talkdem.sweeps.book import JobBook
@@ -142,19 +142,13 @@ def _write_back(target: Path, files: dict[str, bytes]) -> None:
     with run_lock(target):
         for name in EPISODE_FILES:
             if name in files:
-                _replace(target / name, files[name])
+                replace_file(target / name, files[name])
         if any(name in files for name in EPISODE_FILES):
             for name in EPISODE_FILES:
                 if name not in files:
                     (target / name).unlink(missing_ok=True)
         if HEADER_FILE in files:
-            _replace(target / HEADER_FILE, files[HEADER_FILE])
-
-
-def _replace(path: Path, data: bytes) -> None:
-    scratch = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    scratch.write_bytes(data)
-    os.replace(scratch, path)
+            replace_file(target / HEADER_FILE, files[HEADER_FILE])
 
 
 def run_ray(
@@ -163,7 +157,7 @@ def run_ray(
     address: str,
     workers: int | None,
     threads: int,
-    extra: Sequence[str],
+    continue_on_new_revision: bool,
     progress: SweepProgress,
 ) -> dict[str, tuple[int, int]]:
     """Run every pending job of `book` on the Ray cluster at `address`; returns, per model, the models its
@@ -183,7 +177,7 @@ def run_ray(
             actor = ray.remote(ShardWorker).options(max_concurrency=2, max_restarts=1, max_task_retries=1, **resources)
             actors = [actor.remote() for _ in range(count)]
             try:
-                done = _drain(ray, ActorPool(actors), actors, book, jobs, threads, extra, progress)
+                done = _drain(ray, ActorPool(actors), actors, book, jobs, threads, continue_on_new_revision, progress)
                 loads[jobs[0].run.model] = (done, len(jobs))
             finally:
                 for handle in actors:
@@ -201,13 +195,18 @@ def _drain(
     book: JobBook,
     jobs: list[Job],
     threads: int,
-    extra: Sequence[str],
+    continue_on_new_revision: bool,
     progress: SweepProgress,
 ) -> int:
     by_key = {job.key: job for job in jobs}
     for job in jobs:
         # The seed is read when an actor takes the job (ActorPool calls this then), not when it is queued.
-        pool.submit(lambda a, j: a.run_job.remote(j.key, j.command(threads, extra, out=False), _seed(j.target)), job)
+        pool.submit(
+            lambda a, j: a.run_job.remote(
+                j.key, j.config(threads, continue_on_new_revision, out=False), _seed(j.target)
+            ),
+            job,
+        )
     answered: set[str] = set()
     live: dict[str, int] = {}
     while pool.has_next():

@@ -7,20 +7,23 @@ one `SweepRun` per (model, strategy), each an ordinary `talkdem run` directory u
       - model: qwen7b
         backend: openai                  # default llamacpp
         label: qwen7b-sglang             # the run folder's prefix (default: the model's file or name)
-        args: {base_url: [http://10.0.0.5:30000], tokenizer: Qwen/Qwen2.5-7B-Instruct, scoring_api: sglang}
-        model_args: {timeout: 120}       # the backend's own constructor options (`talkdem run --model-arg`)
+        args: {base_url: [http://10.0.0.5:30000], concurrency: 4}
+        model_args: {tokenizer: Qwen/Qwen2.5-7B-Instruct, timeout: 120}   # the backend's options (`--model-arg`)
         ray: {num_cpus: 1}               # the resources of one Ray actor of this model
-    strategies: [vanilla, {name: care, args: {care_order: best_last}}]
+    strategies: [vanilla, {name: care, args: {order: best_last}}]        # the strategy's options (`--strategy-arg`)
     conditions: [clean, intrusion:3]     # default: all 16
     tasks: 60                            # stratified over task types; default: all 300
     planner: {type: scoring, max_steps: 10, feedback: message}   # also clarify: oracle, clarify_budget: 2
 
-Every value is validated by `talkdem run`'s own parser and argument checks (`plan_run`), before anything runs:
-the keys of `args`, `planner` and a strategy's `args` are `talkdem run`'s option names (`base_url` for
-`--base-url`), so a setting means exactly what the flag means, and a bad one is one line naming the file, the
-key and what was expected. A model's `model_args` are its backend's constructor options, checked by the backend's
-own declaration (`talkdem.llm.interface.options`) and passed as `--model-arg KEY=VALUE`; `threads` is not one of them
-here, since the executor gives every worker its share of the CPUs (`talkdem sweep --threads`).
+Each (model, strategy) becomes one `talkdem.runs.config.RunConfig`, checked and planned as `talkdem run` would
+(`plan_run`), before anything runs, without the command line: a model's `args` are how it is reached (`base_url`,
+`concurrency`), its `model_args` its backend's constructor options, checked by the backend's own declaration;
+a strategy's `args` are its options, checked by the strategy's declaration; `planner` keys are the planner's
+settings (`type` is `--planner`). A bad value is one line naming the file, the key and what was expected.
+`threads` is no model arg here, since the executor gives every worker its share of the CPUs (`talkdem sweep
+--threads`). Older spellings still read: a model's `args` may name the backend options that once had flags of
+their own (`tokenizer`, `scoring_api`, `prompt_format`, `bos`, `timeout`), a strategy's `args` the strategy flags'
+names (`care_order`, `care_dedupe`, `generation_tokens`, `generation_plain`).
 
 Before any of that, the spec's shape is checked: the file is read through the package's bounded YAML reader
 (`talkdem.yaml_input`: no alias bomb, no duplicate key at any depth), every field has the type it must have
@@ -31,9 +34,7 @@ Before any of that, the spec's shape is checked: the file is read through the pa
 
 from __future__ import annotations
 
-import argparse
 import difflib
-import functools
 import math
 import re
 import reprlib
@@ -42,22 +43,33 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from talkdem.llm.interface.registry import DEFAULT_BACKEND, LOCAL_BACKENDS
+from talkdem.runs.config import RunConfig, RunConfigError, kind_of
+
 __all__ = [
     "MAX_RUNS",
     "MAX_SHARDS",
     "MODEL_ARGS",
     "PLANNER_ARGS",
-    "STRATEGY_ARGS",
+    "STRATEGY_ALIASES",
     "SweepRun",
     "SweepSpec",
     "SweepSpecError",
     "load_sweep",
-    "run_parser",
     "select_runs",
 ]
 
-MODEL_ARGS = ("base_url", "tokenizer", "scoring_api", "prompt_format", "bos", "concurrency", "timeout")
-"""`talkdem run` options a model entry's `args` may set (how the model is reached)."""
+MODEL_ARGS = {
+    "base_url": "base_urls",
+    "concurrency": "concurrency",
+    "tokenizer": "model_args.tokenizer",
+    "scoring_api": "model_args.scoring_api",
+    "prompt_format": "model_args.prompt_format",
+    "bos": "model_args.add_bos",
+    "timeout": "model_args.timeout",
+}
+"""A model entry's `args` keys and the run setting each sets (the backend options among them are the ones that
+once had `talkdem run` flags of their own: older specs name them here)."""
 PLANNER_ARGS = {
     "type": "planner",
     "max_steps": "max_steps",
@@ -69,9 +81,15 @@ PLANNER_ARGS = {
     "clarify": "clarify",
     "clarify_budget": "clarify_budget",
 }
-"""`planner:` keys and the `talkdem run` option each sets (`type` is `--planner`)."""
-STRATEGY_ARGS = ("care_order", "care_dedupe", "generation_tokens", "generation_plain")
-"""`talkdem run` options a strategy entry's `args` may set."""
+"""`planner:` keys and the run setting each sets (`type` is `--planner`)."""
+STRATEGY_ALIASES = {
+    "care_order": ("order", False),
+    "care_dedupe": ("dedupe", False),
+    "generation_tokens": ("max_new_tokens", False),
+    "generation_plain": ("chat", True),
+}
+"""Older names of strategy options in a strategy's `args` (the flags they once were): {name: (the strategy's
+option, whether a true/false value is inverted)}; `generation_plain: true` is `chat: false`."""
 
 _TOP_KEYS = ("out", "models", "strategies", "conditions", "tasks", "planner", "shards")
 _MODEL_KEYS = ("model", "backend", "label", "args", "model_args", "ray")
@@ -82,40 +100,10 @@ MAX_RUNS = 1_000
 """Runs (models x strategies) a spec may expand into: each is checked by `talkdem run`'s own planning."""
 MAX_SHARDS = 10_000
 """Shards per run a spec may ask for (each is a folder and a job; a run has at most 4,800 episodes)."""
-LOCAL_BACKENDS = ("hf", "llamacpp")
-"""Backends that compute in the worker's own process: `--threads` applies, and a Ray actor reserves that many
-CPUs."""
 
 
 class SweepSpecError(ValueError):
     """A spec that cannot be run: the message names the file and the key."""
-
-
-class _Refused(Exception):
-    pass
-
-
-class _RaisingParser(argparse.ArgumentParser):
-    """`talkdem run`'s parser, raising instead of exiting, so its message can name the spec's key."""
-
-    def error(self, message: str) -> Any:  # argparse's signature returns NoReturn
-        raise _Refused(message)
-
-
-@functools.cache
-def run_parser() -> argparse.ArgumentParser:
-    """A parser of `talkdem run ARGS` that raises `ValueError` (not `SystemExit`) on a bad argument."""
-    from talkdem.cli import run as run_command
-
-    root = _RaisingParser(prog="talkdem", add_help=False)
-    run_command.register(root.add_subparsers(dest="command"))
-    return root
-
-
-def _run_actions() -> dict[str, argparse.Action]:
-    parser = run_parser()
-    (subparsers,) = (a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    return {action.dest: action for action in subparsers.choices["run"]._actions}
 
 
 @dataclass(frozen=True)
@@ -124,11 +112,8 @@ class SweepRun:
 
     name: str
     run_dir: Path
-    model: str
-    backend: str
-    strategy: str
-    argv: tuple[str, ...]
-    """`talkdem run` arguments, without `--out`, `--shard`, `--threads` and `--no-progress` (the executor's)."""
+    config: RunConfig
+    """The run, without `out`, `shard`, `threads` and progress (the executor's)."""
     episode_ids: tuple[str, ...]
     """The run's selection, in its order."""
     model_index: int
@@ -137,17 +122,51 @@ class SweepRun:
     """A Ray actor's resources as the spec gives them (`num_cpus`, `num_gpus`)."""
 
     @property
+    def model(self) -> str:
+        return self.config.model
+
+    @property
+    def backend(self) -> str:
+        return self.config.backend
+
+    @property
+    def strategy(self) -> str:
+        return self.config.strategy
+
+    @property
     def local_model(self) -> bool:
         return self.backend in LOCAL_BACKENDS
 
+    @property
+    def argv(self) -> tuple[str, ...]:
+        """`talkdem run` arguments of the run, without the executor's."""
+        return tuple(self.config.arguments())
+
+    def job(
+        self,
+        *,
+        out: Path | None = None,
+        threads: int | None = None,
+        shard: str | None = None,
+        continue_on_new_revision: bool = False,
+    ) -> RunConfig:
+        """The run (or one shard of it) as an executor runs it: into `out`, a local model on `threads` CPU
+        threads, without progress lines."""
+        model_args = dict(self.config.model_args)
+        if threads and self.local_model:
+            model_args["threads"] = threads
+        return replace(
+            self.config,
+            model_args=model_args,
+            out=out,
+            shard=shard,
+            continue_on_new_revision=continue_on_new_revision,
+            progress=False,
+        )
+
     def command(self, *, out: Path | None = None, threads: int | None = None, shard: str | None = None) -> list[str]:
         """The `talkdem run` arguments of this run (or of one shard of it); `out` None: the caller adds it."""
-        argv = [*self.argv, *(["--out", str(out)] if out is not None else [])]
-        if shard:
-            argv += ["--shard", shard]
-        if threads and self.local_model:
-            argv += ["--threads", str(threads)]
-        return argv
+        return replace(self.job(out=out, threads=threads, shard=shard), progress=True).arguments()
 
 
 @dataclass(frozen=True)
@@ -180,16 +199,8 @@ def _unknown_keys(path: Path, key: str, data: Mapping[str, Any], allowed: Sequen
 
 def _mapping(path: Path, key: str, value: object) -> Mapping[str, Any]:
     if not isinstance(value, Mapping):
-        raise _fail(path, key, f"expected a mapping (key: value), got {_kind(value)}")
+        raise _fail(path, key, f"expected a mapping (key: value), got {kind_of(value)}")
     return value
-
-
-def _kind(value: object) -> str:
-    if value is None:
-        return "nothing"
-    return {bool: "true/false", int: "a number", float: "a number", str: "a string", list: "a list"}.get(
-        type(value), "a mapping" if isinstance(value, Mapping) else f"a {type(value).__name__}"
-    )
 
 
 _SHOWN = reprlib.Repr()
@@ -208,7 +219,7 @@ def _scalar(value: object) -> bool:
 
 def _text(path: Path, key: str, value: object) -> str:
     if not isinstance(value, str) or not value.strip():
-        raise _fail(path, key, f"expected a non-empty string, got {_kind(value)}")
+        raise _fail(path, key, f"expected a non-empty string, got {kind_of(value)}")
     return value
 
 
@@ -227,38 +238,8 @@ def _positive(path: Path, key: str, value: object, most: int) -> int:
 
 def _list(path: Path, key: str, value: object, what: str) -> list[Any]:
     if not isinstance(value, list) or not value:
-        raise _fail(path, key, f"expected a non-empty list of {what}, got {_kind(value)}")
+        raise _fail(path, key, f"expected a non-empty list of {what}, got {kind_of(value)}")
     return value
-
-
-def _flags(path: Path, key: str, values: Mapping[str, Any], names: Mapping[str, str]) -> list[str]:
-    """`talkdem run` arguments for `{spec key: value}` (`names`: spec key -> option dest), each value checked
-    by the option itself."""
-    _unknown_keys(path, key, values, list(names))
-    actions = _run_actions()
-    argv: list[str] = []
-    for name, value in values.items():
-        action = actions[names[name]]
-        flag = action.option_strings[-1]
-        where = f"{key}{name}"
-        if action.nargs == 0:  # a switch: true turns it on
-            if not isinstance(value, bool):
-                raise _fail(path, where, f"expected true or false, got {_kind(value)}")
-            given = [flag] if value else []
-        else:
-            items = value if isinstance(value, list) and isinstance(action, argparse._AppendAction) else [value]
-            if not items or not all(_scalar(v) for v in items):
-                plural = "a value or a list of values" if isinstance(action, argparse._AppendAction) else "a value"
-                wrong = next((v for v in items if not _scalar(v)), value)
-                raise _fail(path, where, f"expected {plural} (text or a number), got {_kind(wrong)}")
-            given = [part for item in items for part in (flag, str(item))]
-        try:
-            run_parser().parse_args(["run", *given])
-        except _Refused as refused:
-            message = str(refused).removeprefix(f"argument {'/'.join(action.option_strings)}: ")
-            raise _fail(path, where, message) from None
-        argv += given
-    return argv
 
 
 def _conditions(path: Path, value: object) -> str:
@@ -267,10 +248,10 @@ def _conditions(path: Path, value: object) -> str:
     expected = "expected a list of conditions (clean, PATTERN, PATTERN:LEVEL; leave the key out for all 16)"
     items = value.split(",") if isinstance(value, str) else value
     if not isinstance(items, list) or not items:
-        raise _fail(path, "conditions", f"{expected}, got {_kind(value)}")
+        raise _fail(path, "conditions", f"{expected}, got {kind_of(value)}")
     for index, item in enumerate(items):
         if not isinstance(item, str):
-            raise _fail(path, f"conditions[{index}]", f"expected a condition (a string), got {_kind(item)}")
+            raise _fail(path, f"conditions[{index}]", f"expected a condition (a string), got {kind_of(item)}")
     text = ",".join(c.strip() for c in items)
     try:
         parse_conditions(text)
@@ -288,18 +269,19 @@ def _tasks(path: Path, value: object) -> int | None:
 
 
 @dataclass(frozen=True)
-class _Model:
+class _Entry:
+    """A model or strategy entry of the spec: its run settings (`RunConfig.from_mapping` keys), where in the spec
+    each came from (so a refusal names the spec's key), and its label."""
+
     index: int
-    model: str
-    backend: str
+    key: str
     label: str
-    argv: tuple[str, ...]
-    resources: dict[str, float]
+    values: dict[str, Any]
+    where: dict[str, str]
+    resources: dict[str, float] = field(default_factory=dict)
 
 
-def _models(path: Path, value: object) -> list[_Model]:
-    from talkdem.llm.interface.registry import BACKENDS
-
+def _models(path: Path, value: object) -> list[_Entry]:
     models = []
     for index, entry in enumerate(_list(path, "models", value, "models")):
         key = f"models[{index}]"
@@ -308,13 +290,26 @@ def _models(path: Path, value: object) -> list[_Model]:
         if "model" not in entry:
             raise _fail(path, f"{key}.model", "missing: name the model (`talkdem models`, a file, an id or a name)")
         model = _text(path, f"{key}.model", entry["model"])
-        backend = _text(path, f"{key}.backend", entry.get("backend", "llamacpp"))
-        if backend not in BACKENDS:
-            raise _fail(path, f"{key}.backend", f"expected one of {', '.join(BACKENDS.names())}, got {_shown(backend)}")
+        backend = _text(path, f"{key}.backend", entry.get("backend", DEFAULT_BACKEND))
         default_label = Path(model).name.removesuffix(".gguf")
         label = _label(path, f"{key}.label", entry.get("label", default_label))
-        argv = _flags(path, f"{key}.args.", _mapping(path, f"{key}.args", entry.get("args", {})), _same(MODEL_ARGS))
-        argv += _model_args(path, f"{key}.model_args", str(backend), entry.get("model_args", {}))
+        values: dict[str, Any] = {"model": model, "backend": backend}
+        where = {"model": f"{key}.model", "backend": f"{key}.backend"}
+        options = _model_args(path, f"{key}.model_args", backend, entry.get("model_args", {}))
+        where.update({f"model_args.{name}": f"{key}.model_args.{name}" for name in options})
+        args = _mapping(path, f"{key}.args", entry.get("args", {}))
+        _unknown_keys(path, f"{key}.args.", args, list(MODEL_ARGS))
+        for name, setting in args.items():
+            target = MODEL_ARGS[name]
+            if target.startswith("model_args."):
+                option = target.removeprefix("model_args.")
+                if option in options:
+                    raise _fail(path, f"{key}.args.{name}", f"also given as model_args.{option}: give it once")
+                options[option] = setting
+            else:
+                values[target] = setting
+            where[target] = f"{key}.args.{name}"
+        values["model_args"] = options
         ray = _mapping(path, f"{key}.ray", entry.get("ray", {}))
         _unknown_keys(path, f"{key}.ray.", ray, _RAY_KEYS)
         resources: dict[str, float] = {}
@@ -327,40 +322,25 @@ def _models(path: Path, value: object) -> list[_Model]:
             ):
                 raise _fail(path, f"{key}.ray.{name}", f"expected a number of at least 0, got {_shown(amount)}")
             resources[name] = float(amount)
-        models.append(
-            _Model(index, model, str(backend), label, ("--model", model, "--backend", backend, *argv), resources)
-        )
+        models.append(_Entry(index, key, label, values, where, resources))
     return models
 
 
-def _model_args(path: Path, key: str, backend: str, value: object) -> list[str]:
-    """`--model-arg KEY=VALUE` arguments for a model's `model_args` mapping, each value checked by the backend."""
-    from talkdem.llm.interface.registry import model_args
-
-    argv: list[str] = []
+def _model_args(path: Path, key: str, backend: str, value: object) -> dict[str, Any]:
+    """A model's `model_args` mapping, as the run setting takes it (its values are checked by the backend's
+    declaration when the run is built)."""
+    options: dict[str, Any] = {}
     for name, setting in _mapping(path, key, value).items():
         where = f"{key}.{name if isinstance(name, str) and len(name) <= 40 else _shown(name)}"
         if not isinstance(name, str) or not name.isidentifier():  # `NAME=VALUE` must split back as it was given
-            raise _fail(path, where, f"expected an option name of the {backend} backend, got {_kind(name)}")
+            raise _fail(path, where, f"expected an option name of the {backend} backend, got {kind_of(name)}")
         if name == "threads":
             raise _fail(path, where, "set by the executor (`talkdem sweep --threads`, each worker its share of CPUs)")
-        if not (_scalar(setting) or isinstance(setting, bool)):
-            raise _fail(path, where, f"expected a value (text, a number or true/false), got {_kind(setting)}")
-        text = ("true" if setting else "false") if isinstance(setting, bool) else str(setting)
-        try:
-            model_args(backend, [f"{name}={text}"])
-        except ValueError as error:
-            raise _fail(path, where, str(error)) from None
-        argv += ["--model-arg", f"{name}={text}"]
-    return argv
+        options[name] = setting
+    return options
 
 
-def _same(names: Sequence[str]) -> dict[str, str]:
-    return {name: name for name in names}
-
-
-def _strategies(path: Path, value: object) -> list[tuple[str, str, tuple[str, ...], str]]:
-    """(name, label, argv, key) per strategy entry."""
+def _strategies(path: Path, value: object) -> list[_Entry]:
     from talkdem.planner.strategies import STRATEGIES
 
     strategies = []
@@ -371,20 +351,30 @@ def _strategies(path: Path, value: object) -> list[tuple[str, str, tuple[str, ..
         if "name" not in entry:
             raise _fail(path, f"{key}.name", f"missing: one of {', '.join(STRATEGIES.names())}")
         name = _text(path, f"{key}.name", entry["name"])
-        if name not in STRATEGIES:
-            close = difflib.get_close_matches(name, STRATEGIES.names(), n=1)
-            hint = f" (did you mean '{close[0]}'?)" if close else ""
-            expected = f"expected one of {', '.join(STRATEGIES.names())}, got {_shown(name)}{hint}"
-            raise _fail(path, f"{key}.name", expected)
         label = _label(path, f"{key}.label", entry.get("label", name))
-        argv = _flags(path, f"{key}.args.", _mapping(path, f"{key}.args", entry.get("args", {})), _same(STRATEGY_ARGS))
-        strategies.append((str(name), label, ("--strategy", str(name), *argv), key))
+        options: dict[str, Any] = {}
+        where = {"strategy": f"{key}.name"}
+        for option, setting in _mapping(path, f"{key}.args", entry.get("args", {})).items():
+            shown = option if isinstance(option, str) and len(option) <= 40 else _shown(option)
+            if not isinstance(option, str) or not option.isidentifier():
+                raise _fail(path, f"{key}.args.{shown}", f"expected an option name of {name}, got {kind_of(option)}")
+            target, inverted = STRATEGY_ALIASES.get(option, (option, False))
+            if inverted:
+                if not isinstance(setting, bool):
+                    raise _fail(path, f"{key}.args.{shown}", f"expected true or false, got {kind_of(setting)}")
+                setting = not setting
+            if target in options:
+                raise _fail(path, f"{key}.args.{shown}", f"given twice (also as {target}): give it once")
+            options[target] = setting
+            where[f"strategy_args.{target}"] = f"{key}.args.{shown}"
+        values = {"strategy": name, "strategy_args": options}
+        strategies.append(_Entry(index, key, label, values, where))
     return strategies
 
 
 def load_sweep(path: Path, out: Path | None = None) -> SweepSpec:
     """Read and validate the spec at `path` (`out`: the output root, instead of the spec's `out`)."""
-    from talkdem.cli.run import plan_run
+    from talkdem.runs.plan import plan_run
 
     top = _mapping(path, "(top level)", _read(path))
     _unknown_keys(path, "", top, _TOP_KEYS)
@@ -396,8 +386,13 @@ def load_sweep(path: Path, out: Path | None = None) -> SweepSpec:
     conditions = _conditions(path, top["conditions"]) if "conditions" in top else None
     tasks = _tasks(path, top["tasks"]) if "tasks" in top else None
     shards = _positive(path, "shards", top["shards"], MAX_SHARDS) if "shards" in top else None
-    planner_argv = _flags(path, "planner.", _mapping(path, "planner", top.get("planner", {})), PLANNER_ARGS)
-    react = "--planner" in planner_argv and planner_argv[planner_argv.index("--planner") + 1] == "react"
+    planner = _mapping(path, "planner", top.get("planner", {}))
+    _unknown_keys(path, "planner.", planner, list(PLANNER_ARGS))
+    common: dict[str, Any] = {PLANNER_ARGS[name]: setting for name, setting in planner.items()}
+    common_where = {PLANNER_ARGS[name]: f"planner.{name}" for name in planner}
+    common.update({"conditions": conditions} if conditions else {})
+    common.update({"limit": tasks} if tasks else {})
+    react = common.get("planner") == "react"
     if "models" not in top:
         raise _fail(path, "models", "missing: a list of models")
     if "strategies" not in top:
@@ -409,14 +404,12 @@ def load_sweep(path: Path, out: Path | None = None) -> SweepSpec:
         raise _fail(path, "models x strategies", f"{grid:,} runs; a spec expands into at most {MAX_RUNS:,}")
     models = _models(path, top["models"])
     strategies = _strategies(path, top["strategies"])
-    selection = [*(["--conditions", conditions] if conditions else []), *(["--limit", str(tasks)] if tasks else [])]
-    parser = run_parser()
     runs: list[SweepRun] = []
     named: dict[str, str] = {}
     for model in models:
-        for strategy, label, strategy_argv, strategy_key in strategies:
-            name = f"{model.label}{'-react' if react else ''}-{label}"
-            which = f"models[{model.index}] x {strategy_key}"
+        for strategy in strategies:
+            name = f"{model.label}{'-react' if react else ''}-{strategy.label}"
+            which = f"{model.key} x {strategy.key}"
             if name in named:
                 raise _fail(
                     path,
@@ -424,28 +417,19 @@ def load_sweep(path: Path, out: Path | None = None) -> SweepSpec:
                     f"writes {out / name}, as {named[name]} does: give one of them another label",
                 )
             named[name] = which
-            argv = (*model.argv, *strategy_argv, *planner_argv, *selection)
-            run = SweepRun(
-                name, out / name, model.model, model.backend, strategy, argv, (), model.index, model.resources
-            )
+            where = {**common_where, **model.where, **strategy.where}
             try:
-                # The run's own checks, as `talkdem run` makes them (threads: as the executor will pass them)
-                plan = plan_run(parser.parse_args(["run", *run.command(out=run.run_dir, threads=1), "--no-progress"]))
-            except (_Refused, ValueError) as error:
-                raise _fail(path, f"{which} ({model.label}, {label})", str(error)) from None
-            runs.append(
-                SweepRun(
-                    name,
-                    out / name,
-                    model.model,
-                    model.backend,
-                    strategy,
-                    argv,
-                    tuple(i.id for i in plan.episodes),
-                    model.index,
-                    model.resources,
-                )
-            )
+                config = RunConfig.from_mapping({**common, **model.values, **strategy.values})
+                run = SweepRun(name, out / name, config, (), model.index, model.resources)
+                # The run's own checks, as `talkdem run` makes them (threads: as the executor will give them)
+                plan = plan_run(run.job(out=run.run_dir, threads=1))
+            except RunConfigError as error:
+                if error.key in where:
+                    raise _fail(path, where[error.key], error.problem) from None
+                raise _fail(path, f"{which} ({model.label}, {strategy.label})", str(error)) from None
+            except ValueError as error:
+                raise _fail(path, f"{which} ({model.label}, {strategy.label})", str(error)) from None
+            runs.append(replace(run, episode_ids=tuple(i.id for i in plan.episodes)))
     return SweepSpec(path, out, tuple(runs), conditions, tasks, shards)
 
 

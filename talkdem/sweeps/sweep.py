@@ -42,11 +42,12 @@ def run_sweep(
     threads: int | None = None,
     shards: int | None = None,
     ray: str | None = None,
-    extra: Sequence[str] = (),
+    continue_on_new_revision: bool = False,
     progress: bool = True,
     talkdem: Sequence[str] = (),
 ) -> SweepResult:
-    """Run the sweep `spec` to the end (resuming what is on disk); `extra`: flags for every `talkdem run`;
+    """Run the sweep `spec` to the end (resuming what is on disk); `continue_on_new_revision`: every run may resume
+    a run directory started on another code revision (as `talkdem run --continue-on-new-revision`);
     `talkdem`: how local workers start the command (default `python -m talkdem` of this interpreter)."""
     connected = False
     if ray is not None:
@@ -54,7 +55,7 @@ def run_sweep(
 
         connected = connect(ray)  # first: the default worker count is the cluster's; a wrong address fails now
     try:
-        return _run(spec, workers, threads, shards, ray, extra, progress, talkdem)
+        return _run(spec, workers, threads, shards, ray, continue_on_new_revision, progress, talkdem)
     finally:
         if connected:
             import ray as ray_module
@@ -68,7 +69,7 @@ def _run(
     threads: int | None,
     shards: int | None,
     ray: str | None,
-    extra: Sequence[str],
+    continue_on_new_revision: bool,
     progress: bool,
     talkdem: Sequence[str],
 ) -> SweepResult:
@@ -101,11 +102,25 @@ def _run(
         if ray is None:
             from talkdem.sweeps.local import run_local
 
-            run_local(book, workers=local_workers, threads=threads, extra=extra, progress=meter, talkdem=talkdem)
+            run_local(
+                book,
+                workers=local_workers,
+                threads=threads,
+                continue_on_new_revision=continue_on_new_revision,
+                progress=meter,
+                talkdem=talkdem,
+            )
         else:
             from talkdem.sweeps.ray_cluster import run_ray
 
-            loads = run_ray(book, address=ray, workers=workers, threads=threads, extra=extra, progress=meter)
+            loads = run_ray(
+                book,
+                address=ray,
+                workers=workers,
+                threads=threads,
+                continue_on_new_revision=continue_on_new_revision,
+                progress=meter,
+            )
         final, _ = book.done()
         meter.update(*book.done(), force=True)
         complete = tuple(str(w.run.run_dir) for w in works if w.merged)

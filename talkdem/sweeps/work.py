@@ -27,6 +27,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from talkdem.runs.config import RunConfig
 from talkdem.runs.episode_files import MAX_EPISODES_BYTES
 from talkdem.runs.records import RunHeader
 from talkdem.runs.shards import Shard, merge_runs, shard_folder, shard_of, split_run
@@ -66,11 +67,18 @@ class Job:
     def key(self) -> str:
         return f"{self.run.name} {self.shard}" if self.shard else self.run.name
 
-    def command(self, threads: int | None, extra: Sequence[str] = (), *, out: bool = True) -> list[str]:
-        """`talkdem run` arguments of the job (`out` False: without `--out`, which the caller gives)."""
-        shard = str(self.shard) if self.shard else None
-        argv = self.run.command(out=self.target if out else None, threads=threads, shard=shard)
-        return [*argv, *extra, "--no-progress"]
+    def config(self, threads: int | None, continue_on_new_revision: bool = False, *, out: bool = True) -> RunConfig:
+        """The job's run (`out` False: without its folder, which the caller gives)."""
+        return self.run.job(
+            out=self.target if out else None,
+            threads=threads,
+            shard=str(self.shard) if self.shard else None,
+            continue_on_new_revision=continue_on_new_revision,
+        )
+
+    def command(self, threads: int | None, continue_on_new_revision: bool = False) -> list[str]:
+        """`talkdem run` arguments of the job (for a worker process)."""
+        return self.config(threads, continue_on_new_revision).arguments()
 
 
 @dataclass
@@ -163,12 +171,11 @@ def _same_model(recorded: str, model: str) -> bool:
 def wanted_header(run: SweepRun) -> RunHeader:
     """The header `talkdem run` would write for `run`, but for the model identity (no model is loaded): what a
     finished run directory is compared with before its job is skipped."""
-    from talkdem.cli.run import plan_run
     from talkdem.planner.strategies import load_strategy
+    from talkdem.runs.plan import plan_run
     from talkdem.runs.spec import RunSpec
-    from talkdem.sweeps.spec import run_parser
 
-    plan = plan_run(run_parser().parse_args(["run", *run.command(out=run.run_dir, threads=1), "--no-progress"]))
+    plan = plan_run(run.job(out=run.run_dir, threads=1))
     strategy = load_strategy(run.strategy, **plan.strategy_options)
     spec = RunSpec.for_run(
         plan.config, strategy, backend_args={"backend": run.backend, **plan.backend_args}, selection=plan.extra

@@ -18,7 +18,8 @@ pytestmark = pytest.mark.slow
 def test_a_real_model_runs_with_an_oracle_person(tmp_path: Path) -> None:
     pytest.importorskip("llama_cpp")
     out = tmp_path / "run"
-    command = ["run", "--backend", "llamacpp", "--model", "smollm2", "--threads", "1", "--conditions", "clean"]
+    command = ["run", "--backend", "llamacpp", "--model", "smollm2", "--model-arg", "threads=1"]
+    command += ["--conditions", "clean"]
     command += ["--limit", "1", "--max-steps", "4", "--clarify", "oracle", "--no-progress", "--out", str(out)]
     assert main(command) == 0
     header = read_header(out)

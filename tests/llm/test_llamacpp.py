@@ -138,7 +138,8 @@ def test_a_run_records_its_thread_count(tmp_path: Path) -> None:
     from talkdem.runs import read_header
 
     out = tmp_path / "run"
-    command = ["run", "--backend", "llamacpp", "--model", "smollm2", "--threads", "1", "--conditions", "clean"]
+    command = ["run", "--backend", "llamacpp", "--model", "smollm2", "--model-arg", "threads=1"]
+    command += ["--conditions", "clean"]
     assert main([*command, "--limit", "1", "--max-steps", "1", "--no-progress", "--out", str(out)]) == 0
     header = read_header(out)
     assert header.config["threads"] == 1

@@ -100,7 +100,7 @@ def test_a_batched_run_records_its_layout_and_resumes(tmp_path: Path) -> None:
     from talkdem.runs import read_episodes, read_header
 
     out = tmp_path / "run"
-    command = ["run", "--backend", "llamacpp", "--model", "smollm2", "--threads", "1", "--limit", "2"]
+    command = ["run", "--backend", "llamacpp", "--model", "smollm2", "--model-arg", "threads=1", "--limit", "2"]
     command += ["--conditions", "clean,intrusion:3", "--max-steps", "3", "--no-progress", "--out", str(out)]
     assert main([*command, "--concurrency", "3"]) == 0
     header = read_header(out)

@@ -243,14 +243,14 @@ def test_strategy_options_are_recorded_and_a_resume_with_others_is_refused(tmp_p
     assert header.config["feedback"] == "message" and header.config["failure_message"] is True
     episode = read_episodes(run_dir)[0]
     assert episode.notes["rewrite_status"] == "ok" and episode.instruction_shown == episode.notes["rewrite"]
-    process = _scripted(run_dir, 0.0, "--strategy", "tocc", "--generation-tokens", "64")
+    process = _scripted(run_dir, 0.0, "--strategy", "tocc", "--strategy-arg", "max_new_tokens=64")
     _, error = process.communicate(timeout=120)
     assert process.returncode == 2 and "config.strategy_args" in error and "prompt_version" in error
 
 
-def test_a_flag_of_another_strategy_is_one_clear_error(tmp_path: Path) -> None:
-    process = _scripted(tmp_path / "run", 0.0, "--care-order", "best_first")
+def test_an_option_of_another_strategy_is_one_clear_error(tmp_path: Path) -> None:
+    process = _scripted(tmp_path / "run", 0.0, "--strategy-arg", "order=best_first")
     _, error = process.communicate(timeout=120)
     assert process.returncode == 2 and "Traceback" not in error
-    assert "--care-order / --care-dedupe apply to --strategy care, not vanilla" in error
+    assert "strategy arg 'order': the vanilla strategy has no such option (its options: none); care has it" in error
     assert not (tmp_path / "run").exists()

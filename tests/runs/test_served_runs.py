@@ -24,7 +24,8 @@ from talkdem.llm.interface.models import FAST_TEST_MODEL
 from talkdem.runs.store import read_episodes, read_header, run_progress
 
 SERVER = Path(__file__).parent / "wire_server.py"
-RUN = ["run", "--backend", "openai", "--model", "served-test", "--tokenizer", FAST_TEST_MODEL, "--no-progress"]
+RUN = ["run", "--backend", "openai", "--model", "served-test", "--model-arg", f"tokenizer={FAST_TEST_MODEL}"]
+RUN += ["--no-progress"]
 SELECTION = ["--conditions", "clean,intrusion:1", "--limit", "3", "--max-steps", "4"]
 _NO_PROXY = urllib.request.build_opener(urllib.request.ProxyHandler({}))
 
@@ -108,7 +109,7 @@ def test_concurrency_and_several_servers_give_the_records_of_one_at_a_time(
     served = header.config["served"]
     assert served["servers"] == sorted([first.url, second.url]) and served["tokenizer"] == FAST_TEST_MODEL
     assert served["scoring_api"] == "completions" and served["served_model"] == "served-test"
-    # `--model` naming a local model: its tokenizer is used without --tokenizer
+    # `--model` naming a local model: its tokenizer is used without a tokenizer model arg
     command = ["run", "--backend", "openai", "--model", FAST_TEST_MODEL, "--no-progress", *SELECTION]
     assert main([*command, "--base-url", first.url, "--out", str(tmp_path / "named")]) == 0
     assert _records(tmp_path / "named") == reference

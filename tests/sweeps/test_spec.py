@@ -105,14 +105,63 @@ def test_model_args_reach_the_run_as_the_backend_parsed_them(tmp_path: Path) -> 
     )
     text = text.replace("concurrency: 2}", "concurrency: 2}\n    model_args: {timeout: 120, endpoint: auto}")
     spec = load_sweep(_spec(tmp_path, text))
+    assert spec.runs[0].config.model_args == {"n_ctx": 2048, "f32_kv_cache": False}
     assert spec.runs[0].argv[4:8] == ("--model-arg", "n_ctx=2048", "--model-arg", "f32_kv_cache=false")
-    assert "--model-arg" in spec.runs[2].argv and "timeout=120" in spec.runs[2].argv
-    assert "endpoint=auto" in spec.runs[2].argv
+    # the older `args` spelling of a backend option and `model_args` are one mapping
+    assert spec.runs[2].config.model_args == {
+        "tokenizer": "smollm2-135m-instruct",
+        "timeout": 120.0,
+        "endpoint": "auto",
+    }
+    assert "timeout=120.0" in spec.runs[2].argv and "endpoint=auto" in spec.runs[2].argv
+
+
+def test_a_backend_option_given_twice_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    text = GOOD.replace("concurrency: 2}", "concurrency: 2}\n    model_args: {tokenizer: other}")
+    error = _refused(tmp_path, text, capsys)
+    assert "models[1].args.tokenizer: also given as model_args.tokenizer: give it once" in error
+
+
+@pytest.mark.parametrize(
+    ("older", "newer"),
+    [
+        (
+            "{name: care, args: {care_order: best_first, care_dedupe: true}}",
+            "{name: care, args: {order: best_first, dedupe: true}}",
+        ),
+        (
+            "{name: cot, args: {generation_tokens: 64, generation_plain: true}}",
+            "{name: cot, args: {max_new_tokens: 64, chat: false}}",
+        ),
+        ("{name: tocc, args: {generation_plain: false}}", "{name: tocc, args: {chat: true}}"),
+    ],
+)
+def test_a_strategys_options_by_their_older_names_are_the_same_run(tmp_path: Path, older: str, newer: str) -> None:
+    def config(entry: str) -> object:
+        text = GOOD.replace("[vanilla, {name: care, args: {care_order: best_first}}]", f"[{entry}]")
+        return load_sweep(_spec(tmp_path, text)).runs[0].config
+
+    assert config(older) == config(newer)
+
+
+def test_a_strategy_option_is_checked_by_the_strategy(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    text = GOOD.replace("care_order: best_first", "order: worst_first")
+    error = _refused(tmp_path, text, capsys)
+    assert (
+        "strategies[1].args.order: strategy arg order='worst_first': the care strategy's 'order' takes one of" in error
+    )
+    text = GOOD.replace("care_order: best_first", "k: 5")
+    error = _refused(tmp_path, text, capsys)
+    assert (
+        "strategies[1].args.k: strategy arg 'k': the care strategy has no such option (its options: order, dedupe)"
+        in error
+    )
 
 
 def test_a_strategy_flag_of_another_strategy_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     error = _refused(tmp_path, GOOD.replace("[vanilla,", "[{name: vanilla, args: {care_dedupe: true}},"), capsys)
-    assert "strategies[0]" in error and "apply to --strategy care, not vanilla" in error
+    assert "strategies[0].args.care_dedupe: strategy arg 'dedupe': the vanilla strategy has no such option" in error
+    assert error.rstrip().endswith("; care has it")
 
 
 def test_a_missing_spec_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -138,9 +187,9 @@ def test_the_dry_run_prints_every_run_and_writes_nothing(tmp_path: Path, capsys:
         assert line in printed
     commands = [line.strip() for line in printed.splitlines() if line.strip().startswith("talkdem run ")]
     assert len(commands) == 4
-    assert "--threads" in commands[0] and "--threads" not in commands[2]  # a served model computes elsewhere
+    assert "--model-arg threads=" in commands[0] and "threads=" not in commands[2]  # a served model computes elsewhere
     assert "--base-url http://127.0.0.1:9/v1 --base-url http://127.0.0.1:8/v1" in commands[2]
-    assert "--care-order best_first" in commands[1] and "--max-steps 4" in commands[0]
+    assert "--strategy-arg order=best_first" in commands[1] and "--max-steps 4" in commands[0]
     assert not (tmp_path / "out").exists()
 
 
@@ -177,6 +226,23 @@ def test_the_dry_run_imports_no_heavy_library_nor_ray() -> None:
     )
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert "HEAVY []" in result.stderr
+
+
+def test_a_sweep_builds_and_checks_its_runs_without_the_cli() -> None:
+    # The sweep's runs are run configurations, planned and compared without `talkdem run`'s parser.
+    code = (
+        "import sys\n"
+        "from pathlib import Path\n"
+        "from talkdem.sweeps import load_sweep\n"
+        "from talkdem.sweeps.work import wanted_header\n"
+        f"spec = load_sweep(Path({str(repo_root() / 'results' / 'paper' / 'sweep.yaml')!r}))\n"
+        "header = wanted_header(spec.runs[0])\n"
+        "print('RUNS', len(spec.runs), header.strategy, file=sys.stderr)\n"
+        "print('CLI', sorted(m for m in sys.modules if m == 'talkdem.cli' or m.startswith('talkdem.cli.')), "
+        "file=sys.stderr)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert "RUNS 6 vanilla" in result.stderr and "CLI []" in result.stderr, result.stderr
 
 
 def test_ray_missing_is_one_line_naming_the_extra(tmp_path: Path) -> None:

@@ -10,9 +10,8 @@ from pathlib import Path
 
 from talkdem.llm.interface.models import DEFAULT_MODEL, FAST_TEST_MODEL, model_path
 
-__all__ = ["DEFAULT_BACKEND", "DEFAULT_MODEL_NAME", "FAST_TEST_MODEL", "default_model_path"]
+__all__ = ["DEFAULT_MODEL_NAME", "FAST_TEST_MODEL", "default_model_path"]
 
-DEFAULT_BACKEND = "llamacpp"
 DEFAULT_MODEL_NAME = DEFAULT_MODEL
 
 

@@ -1,5 +1,6 @@
-"""Backend options as data: each backend declares the constructor options a user may set (`--model-arg KEY=VALUE`,
-a sweep spec's `model_args:`), and one parser turns `key=value` text into typed values through that declaration.
+"""Backend and strategy options as data: each backend declares the constructor options a user may set
+(`--model-arg KEY=VALUE`, a sweep spec's `model_args:`), each strategy likewise (`--strategy-arg KEY=VALUE`, a
+sweep strategy's `args:`), and one parser turns `key=value` text into typed values through that declaration.
 
 A backend class lists its options in `LanguageModel.options`, beside its constructor, so what a user can set is
 read from the backend itself: an unknown key or a bad value is one line naming the option, the backend and what it
@@ -12,7 +13,15 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
-__all__ = ["BackendOption", "OptionKind", "OptionValue", "parse_model_arg", "parse_model_args"]
+__all__ = [
+    "BackendOption",
+    "OptionKind",
+    "OptionValue",
+    "parse_model_arg",
+    "parse_model_args",
+    "parse_option",
+    "parse_options",
+]
 
 OptionKind = Literal["int", "float", "bool", "str", "choice"]
 OptionValue = str | int | float | bool | None
@@ -87,35 +96,54 @@ class BackendOption:
         return str(value)
 
 
-def _split(item: str) -> tuple[str, str]:
+def _split(item: str, flag: str) -> tuple[str, str]:
     key, sep, value = item.partition("=")
     if not sep or not key.strip():
-        raise ValueError(f"--model-arg {item!r}: expected KEY=VALUE")
+        raise ValueError(f"{flag} {item!r}: expected KEY=VALUE")
     return key.strip(), value.strip()
 
 
-def parse_model_arg(backend: str, options: Sequence[BackendOption], key: str, text: str) -> OptionValue:
-    """The typed value of option `key` of `backend` given as `text`; ValueError (one line naming the option, the
-    backend and what it accepts) for an unknown key or a bad value."""
+def parse_option(
+    options: Sequence[BackendOption], key: str, text: str, *, owner: str, what: str = "model arg"
+) -> OptionValue:
+    """The typed value of option `key` of `owner` (`the hf backend`, `the care strategy`) given as `text`;
+    ValueError (one line naming the option, its owner and what it accepts) for an unknown key or a bad value."""
     declared = {option.name: option for option in options}
     if key not in declared:
         known = ", ".join(declared) or "none"
-        raise ValueError(f"model arg '{key}': the {backend} backend has no such option (its options: {known})")
+        raise ValueError(f"{what} '{key}': {owner} has no such option (its options: {known})")
     option = declared[key]
     try:
         return option.parse(text)
     except ValueError as error:
-        raise ValueError(f"model arg {key}={text!r}: the {backend} backend's '{key}' takes {error}") from None
+        raise ValueError(f"{what} {key}={text!r}: {owner}'s '{key}' takes {error}") from None
 
 
-def parse_model_args(backend: str, options: Sequence[BackendOption], items: Iterable[str]) -> dict[str, OptionValue]:
+def parse_options(
+    options: Sequence[BackendOption],
+    items: Iterable[str],
+    *,
+    owner: str,
+    what: str = "model arg",
+    flag: str = "--model-arg",
+) -> dict[str, OptionValue]:
     """`{key: typed value}` of `KEY=VALUE` strings, in the order given; a key given twice with two values is an
     error (which one would the run use?)."""
     parsed: dict[str, OptionValue] = {}
     for item in items:
-        key, text = _split(item)
-        value = parse_model_arg(backend, options, key, text)
+        key, text = _split(item, flag)
+        value = parse_option(options, key, text, owner=owner, what=what)
         if key in parsed and parsed[key] != value:
-            raise ValueError(f"model arg '{key}' given twice, as {parsed[key]!r} and {value!r}: give it once")
+            raise ValueError(f"{what} '{key}' given twice, as {parsed[key]!r} and {value!r}: give it once")
         parsed[key] = value
     return parsed
+
+
+def parse_model_arg(backend: str, options: Sequence[BackendOption], key: str, text: str) -> OptionValue:
+    """The typed value of option `key` of `backend` given as `text` (`parse_option` for a backend)."""
+    return parse_option(options, key, text, owner=f"the {backend} backend")
+
+
+def parse_model_args(backend: str, options: Sequence[BackendOption], items: Iterable[str]) -> dict[str, OptionValue]:
+    """`--model-arg KEY=VALUE` strings as `backend`'s typed options (`parse_options` for a backend)."""
+    return parse_options(options, items, owner=f"the {backend} backend")

@@ -9,13 +9,28 @@ from talkdem.llm.interface.base import LanguageModel
 from talkdem.llm.interface.options import BackendOption, OptionValue, parse_model_args
 from talkdem.registry import Registry, UnknownNameError
 
-__all__ = ["BACKENDS", "UnknownBackendError", "backend_options", "backends_with_option", "load_model", "model_args"]
+__all__ = [
+    "BACKENDS",
+    "DEFAULT_BACKEND",
+    "LOCAL_BACKENDS",
+    "UnknownBackendError",
+    "backend_options",
+    "backends_with_option",
+    "load_model",
+    "model_args",
+]
 
 BACKENDS: Registry[LanguageModel] = Registry("backend")
 BACKENDS.register("hf", "talkdem.llm.backends.hf:HFCausalLM", "Hugging Face transformers")
 BACKENDS.register("llamacpp", "talkdem.llm.backends.llamacpp:LlamaCppLM", "llama.cpp")
 BACKENDS.register("vllm", "talkdem.llm.backends.vllm_backend:VLLMLM", "vLLM")
 BACKENDS.register("openai", "talkdem.llm.backends.openai_compat:OpenAICompatibleLM", "OpenAI-compatible server")
+
+DEFAULT_BACKEND = "llamacpp"
+"""The backend a run, a sweep's model and the demo use when none is named (the default model is a GGUF)."""
+LOCAL_BACKENDS = ("hf", "llamacpp")
+"""Backends that compute in the caller's own process on its CPUs (`threads` applies; a sweep's worker gets its
+share of them)."""
 
 UnknownBackendError = UnknownNameError  # the name callers already catch
 
