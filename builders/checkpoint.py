@@ -1,18 +1,19 @@
 """The build checkpoint's lock and its one way of appending a record, shared by `talkdem build`
 (`builders.build`) and the LLM sample (`builders.reporting.llm_sample`), which resume from the same format.
 
-`talkdem.runs.store` has a lock and an appender of its own, but for a different object: it locks a run's
-folder and fsyncs episode records, where a checkpoint is one JSONL file locked by itself.
+The lock is the project's one file lock (`talkdem.files.exclusive_lock`, which also locks a run's folder);
+a checkpoint is one JSONL file locked by itself.
 """
 
 from __future__ import annotations
 
-import fcntl
 import json
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
+
+from talkdem.files import exclusive_lock
 
 __all__ = ["CheckpointInUseError", "append_record", "checkpoint_lock"]
 
@@ -25,13 +26,10 @@ class CheckpointInUseError(ValueError):
 def checkpoint_lock(path: Path) -> Iterator[None]:
     """Hold an exclusive lock on the checkpoint `path` (created empty if missing); a second holder fails at once
     with `CheckpointInUseError`."""
-    # flock on the checkpoint itself: two builds appending to one checkpoint would interleave units.
+    # A lock on the checkpoint itself: two builds appending to one checkpoint would interleave units.
     path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("a") as handle:
-        try:
-            fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise CheckpointInUseError(f"{path}: another build is using this checkpoint; wait for it") from None
+    busy = CheckpointInUseError(f"{path}: another build is using this checkpoint; wait for it")
+    with exclusive_lock(path, in_use=busy):
         yield
 
 

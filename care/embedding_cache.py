@@ -1,20 +1,21 @@
 """Sentence embeddings cached on disk by (text, encoder): each text is encoded once per encoder, ever.
 
 The cache of one encoder is a folder of shards (`<digest>.npz`: the texts' SHA-256 keys and their vectors),
-one shard per batch of new texts. A shard is written to a temporary name and renamed, so a killed run never
-leaves a torn file, and concurrent runs each add their own shard: nothing is ever rewritten in place.
+one shard per batch of new texts. A shard is written whole or not at all (`talkdem.files.replacing`), so a killed
+run never leaves a torn file, and concurrent runs each add their own shard: nothing is ever rewritten in place.
+This is the one cache of embeddings: CARE's queries and its memory bank (`care.memory`) both go through it.
 """
 
 from __future__ import annotations
 
 import hashlib
-import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
 
+from talkdem.files import replacing
 from talkdem.paths import cache_dir
 
 __all__ = ["CachedEncoder", "text_key"]
@@ -55,10 +56,16 @@ class CachedEncoder:
     def _save_shard(self, keys: list[str], vectors: NDArray[np.float64]) -> None:
         self.folder.mkdir(parents=True, exist_ok=True)
         name = hashlib.sha256("".join(keys).encode()).hexdigest()[:24] + ".npz"
-        partial = self.folder / f".{name}.{os.getpid()}.partial.npz"
-        np.savez(partial, keys=np.array(keys), vectors=vectors)
-        os.replace(partial, self.folder / name)
+        with replacing(self.folder / name) as scratch, scratch.open("wb") as handle:
+            np.savez(handle, keys=np.array(keys), vectors=vectors)  # a handle: savez adds no `.npz` to it
         self._loaded.add(name)
+
+    def uncached(self, texts: Sequence[str]) -> int:
+        """How many distinct texts of `texts` a call would send to the encoder (the shards on disk counted)."""
+        keys = {text_key(t) for t in texts}
+        if any(k not in self._vectors for k in keys):
+            self._load_shards()
+        return sum(1 for k in keys if k not in self._vectors)
 
     def __call__(self, texts: Sequence[str]) -> NDArray[np.float64]:
         keys = [text_key(t) for t in texts]

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from talkdem.files import replace_file
 from talkdem.schema import CLEAN, MEMORY_BANK, PATTERN_CONFIGS, PATTERNS, TASKS, data_files
 
 __all__ = [
@@ -159,9 +160,7 @@ def compute_retrieval(folder: Path, encode: Encoder | None = None) -> dict[str, 
 def write_retrieval(folder: Path, report: dict[str, Any]) -> Path:
     path = retrieval_file(folder)
     path.parent.mkdir(parents=True, exist_ok=True)
-    scratch = path.with_name(path.name + ".tmp")
-    scratch.write_text(json.dumps(report, indent=2) + "\n", encoding="utf-8")
-    scratch.replace(path)
+    replace_file(path, json.dumps(report, indent=2) + "\n")
     return path
 
 

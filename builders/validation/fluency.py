@@ -12,12 +12,13 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import os
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from talkdem.files import replace_file
 
 __all__ = [
     "CONTEXT",
@@ -81,10 +82,8 @@ class FluencyScorer:
 
     def _save(self) -> None:
         self.cache_file.parent.mkdir(parents=True, exist_ok=True)
-        scratch = self.cache_file.with_name(self.cache_file.name + ".tmp")
         payload = {"model": self.model.identity.key(), "context": self.context, "scores": self._cache}
-        scratch.write_text(json.dumps(payload, sort_keys=True))
-        os.replace(scratch, self.cache_file)
+        replace_file(self.cache_file, json.dumps(payload, sort_keys=True))
 
     def nll_per_token(self, texts: Sequence[str], progress: Callable[[int, int], None] | None = None) -> list[float]:
         """Mean negative log-likelihood per token of each text (nats), scoring only texts not cached."""

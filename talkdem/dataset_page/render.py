@@ -7,12 +7,12 @@ in, so an utterance cannot inject markup or script. The inlined script only show
 from __future__ import annotations
 
 import html
-import os
 from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
 
 from talkdem.dataset_page.records import PageTask, PageVariant
+from talkdem.files import replace_file
 from talkdem.schema import LEVELS, PATTERN_CONFIGS, PATTERNS
 from talkdem.viewer import word_diff
 
@@ -129,7 +129,5 @@ def write_sample_page(tasks: Sequence[PageTask], total_tasks: int, out: Path, pe
     if not out.parent.is_dir():
         raise ValueError(f"{out.parent}: no such folder to write the page into")
     text = render_sample_page(tasks, total_tasks, per_type)
-    scratch = out.with_name(f".{out.name}.{os.getpid()}.tmp")
-    scratch.write_text(text, encoding="utf-8")
-    os.replace(scratch, out)
+    replace_file(out, text)
     return out

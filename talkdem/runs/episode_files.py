@@ -17,10 +17,11 @@ from __future__ import annotations
 
 import gzip
 import io
-import os
 import zlib
 from collections.abc import Iterator
 from pathlib import Path
+
+from talkdem.files import replace_file
 
 __all__ = [
     "EPISODES_FILE",
@@ -34,7 +35,6 @@ __all__ = [
     "episodes_file",
     "pack_bytes",
     "read_episode_bytes",
-    "replace_file",
     "unpack_in_place",
 ]
 
@@ -136,16 +136,6 @@ def pack_bytes(data: bytes) -> bytes:
     with gzip.GzipFile(filename="", mode="wb", compresslevel=9, fileobj=buffer, mtime=0) as handle:
         handle.write(data)
     return buffer.getvalue()
-
-
-def replace_file(path: Path, data: bytes) -> None:
-    """Write `path` atomically and durably (a crash leaves the old file or the new one, never half)."""
-    scratch = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with scratch.open("wb") as handle:
-        handle.write(data)
-        handle.flush()
-        os.fsync(handle.fileno())
-    os.replace(scratch, path)
 
 
 def unpack_in_place(run_dir: Path) -> bool:

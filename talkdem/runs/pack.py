@@ -10,12 +10,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from talkdem.files import replace_file
 from talkdem.runs.episode_files import (
     EPISODES_FILE,
     PACKED_EPISODES_FILE,
     pack_bytes,
     read_episode_bytes,
-    replace_file,
     unpack_in_place,
 )
 from talkdem.runs.store import read_episodes, read_header, run_lock, run_progress

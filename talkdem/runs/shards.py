@@ -20,7 +20,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from talkdem.runs.episode_files import PACKED_EPISODES_FILE, episodes_file, pack_bytes, replace_file
+from talkdem.files import replace_file
+from talkdem.runs.episode_files import PACKED_EPISODES_FILE, episodes_file, pack_bytes
 from talkdem.runs.records import EpisodeRecord, RunHeader
 from talkdem.runs.runtime import add_runtime
 from talkdem.runs.spec import MERGE_KEYS, differences

@@ -14,7 +14,6 @@ A packed run is unpacked by the first episode appended to it, never before (a co
 
 from __future__ import annotations
 
-import fcntl
 import json
 import os
 import sys
@@ -24,6 +23,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TextIO
 
+from talkdem.files import exclusive_lock, replace_file
 from talkdem.runs.episode_files import (
     EPISODES_FILE,
     PACKED_EPISODES_FILE,
@@ -61,10 +61,7 @@ class RunInUseError(ValueError):
 def write_header(run_dir: Path, header: RunHeader) -> None:
     """Write `header.json` atomically (a crash leaves the old header or the new one, never half)."""
     run_dir.mkdir(parents=True, exist_ok=True)
-    path = run_dir / HEADER_FILE
-    scratch = path.with_name(f".{HEADER_FILE}.{os.getpid()}.tmp")
-    scratch.write_text(json.dumps(header.to_json(), indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
-    os.replace(scratch, path)
+    replace_file(run_dir / HEADER_FILE, json.dumps(header.to_json(), indent=2, ensure_ascii=False) + "\n")
 
 
 def read_header(run_dir: Path) -> RunHeader:
@@ -135,17 +132,9 @@ def run_lock(run_dir: Path) -> Iterator[None]:
     if run_dir.exists() and not run_dir.is_dir():
         raise ValueError(f"{run_dir}: exists and is not a folder; choose another --out")
     run_dir.mkdir(parents=True, exist_ok=True)
-    descriptor = os.open(run_dir, os.O_RDONLY)
-    try:
-        try:
-            fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            raise RunInUseError(
-                f"{run_dir}: another talkdem process is writing this run; wait for it or choose another --out"
-            ) from None
+    busy = RunInUseError(f"{run_dir}: another talkdem process is writing this run; wait for it or choose another --out")
+    with exclusive_lock(run_dir, in_use=busy):
         yield
-    finally:
-        os.close(descriptor)
 
 
 def _revisions(run_dir: Path, existing: RunHeader, wanted: RunHeader, new_revision_ok: bool) -> tuple[str, ...]:

@@ -39,7 +39,9 @@ def test_each_text_is_encoded_once_and_results_are_identical(tmp_path: Path) -> 
     assert encoder.seen == ["d"]
     np.testing.assert_array_equal(mixed, Counting()(["c", "d", "a"]))
     assert again.encoded == 1
-    assert not [p for p in tmp_path.rglob("*") if "partial" in p.name]
+    shards = [p for p in tmp_path.rglob("*") if p.is_file()]
+    # two shards (one per call that encoded something) and no scratch file left behind
+    assert len(shards) == 2 and all(p.suffix == ".npz" and not p.name.startswith(".") for p in shards)
 
 
 def test_another_encoder_name_does_not_hit(tmp_path: Path) -> None:

