@@ -195,8 +195,8 @@ class OpenAICompatibleLM(LanguageModel):
             raise LoglikelihoodUnsupportedError(
                 f"{self.identity.key()}: an OpenAI-compatible chat endpoint gives no prompt log-likelihoods; "
                 "use the generative planner (SayCanConfig(mode='generative'), `talkdem run --planner generative`), "
-                "give the served model's tokenizer to score over /v1/completions or SGLang (`--tokenizer`), "
-                "or a local backend (hf, llamacpp, vllm)"
+                "give the served model's tokenizer to score over /v1/completions or SGLang "
+                "(`--model-arg tokenizer=NAME`), or a local backend (hf, llamacpp, vllm)"
             )
         return loglikelihood_by_context(requests, self.score_continuations)
 
