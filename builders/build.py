@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
 import re
 import sys
 import time
@@ -33,6 +32,7 @@ from builders.generation.ranking import CandidateRanker, Ranker, choose, load_ra
 from builders.interpretation import interpretation
 from builders.verification import verify
 from builders.verification.stats import MAX_ATTEMPTS, verification_stats
+from talkdem.files import replace_file, replacing
 from talkdem.paths import data_dir, repo_root
 from talkdem.schema import CLEAN, LEVELS, MEMORY_BANK, PATTERN_CONFIGS, TASKS, data_files, features, split_name
 from talkdem.seeds import PddlParams
@@ -375,16 +375,13 @@ def _write_parquet(rows: Sequence[dict[str, Any]], features: Any, path: Path) ->
     # encode_example turns class-label names into their integer ids, as `datasets` stores them.
     table = pa.Table.from_pylist([features.encode_example(row) for row in rows], schema=features.arrow_schema)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    pq.write_table(table, tmp, compression="zstd", row_group_size=len(rows) or 1)
-    os.replace(tmp, path)
+    with replacing(path) as scratch:
+        pq.write_table(table, scratch, compression="zstd", row_group_size=len(rows) or 1)
     return path
 
 
 def _write_text(path: Path, text: str) -> Path:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(text, encoding="utf-8")
-    os.replace(tmp, path)
+    replace_file(path, text)
     return path
 
 

@@ -597,8 +597,7 @@ seed instruction pool.
 def write_card(folder: Path, stats: dict[str, Any]) -> list[Path]:
     """The one writer of the card: `folder/README.md` (what `datasets` and the Hub read) and, when `folder` is
     the checkout's `data/`, the same bytes as the repository's `dataset_card.md`. Returns the paths written."""
-    import os
-
+    from talkdem.files import replace_file
     from talkdem.paths import repo_root
 
     text = render_card(stats, folder)
@@ -606,7 +605,5 @@ def write_card(folder: Path, stats: dict[str, Any]) -> list[Path]:
     if folder.resolve() == (repo_root() / "data").resolve():
         targets.append(repo_root() / "dataset_card.md")
     for target in targets:
-        scratch = target.with_name(target.name + ".tmp")
-        scratch.write_text(text, encoding="utf-8")
-        os.replace(scratch, target)
+        replace_file(target, text)
     return targets
