@@ -29,6 +29,7 @@ __all__ = [
     "TASK_TYPES",
     "Condition",
     "Pattern",
+    "canonical_instruction_id",
     "data_files",
     "default_split",
     "features",
@@ -222,6 +223,13 @@ def parse_instruction_id(instruction_id: str) -> tuple[str, Condition]:
     if len(parts) == 3 and parts[0] and parts[1] in PATTERNS and parts[2] in {str(n) for n in LEVELS}:
         return parts[0], Condition(parts[1], int(parts[2]))
     raise ValueError(f"'{instruction_id}' is not an instruction id (<task_id>:clean or <task_id>:<pattern>:<level>)")
+
+
+def canonical_instruction_id(instruction_id: str) -> str:
+    """The id as the dataset stores it: `<task>:clean`, the clean instruction's short form, is `<task>:clean:0`;
+    every other id is its own canonical form. A ValueError (`parse_instruction_id`'s) for what is no id."""
+    task_id, condition = parse_instruction_id(instruction_id)
+    return condition.instruction_id(task_id)
 
 
 # --- the file layout --------------------------------------------------------------------------------------------

@@ -36,11 +36,11 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from talkdem.runs.episode import out_of_vocabulary_steps
-    from talkdem.runs.external import score_plan_file
+    from talkdem.runs.external import record_plan_file
     from talkdem.runs.store import HEADER_FILE, read_episodes
 
     before = len(read_episodes(args.out)) if (args.out / HEADER_FILE).is_file() else 0
-    count = score_plan_file(
+    count = record_plan_file(
         args.plans,
         args.out,
         args.name,

@@ -39,10 +39,11 @@ from typing import Any
 import gymnasium as gym
 from gymnasium import spaces
 
-from talkdem.clarify import CLARIFY_MODES, ClarifyMode, Exchange, SimulatedPerson, is_question, question_texts
+from talkdem.clarify import CLARIFY_MODES, ClarifyMode, Exchange, SimulatedPerson, question_texts
 from talkdem.instructions import Instruction, load_instructions
+from talkdem.planner.stepping import ClarificationTurn
 from talkdem.registry import UnknownNameError
-from talkdem.schema import parse_instruction_id
+from talkdem.schema import canonical_instruction_id
 from talkdem.sim.observation import observation_of
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorBackend, SimulatorEpisode, load_simulator
 from talkdem.sim.trace import EpisodeTrace
@@ -179,9 +180,9 @@ class TalkDemEnv(gym.Env[str, str]):
             self.backend = simulator
         else:
             raise _bad("simulator", "a simulator name (symbolic, ai2thor) or a SimulatorBackend", simulator)
-        self._person: SimulatedPerson | None = None
-        self.dialogue: list[Exchange] = []
-        """The questions asked and answered in the current episode."""
+        # The clarification turn our planners take (`talkdem.planner.stepping`): the same rule for when a string
+        # is a question (a person to ask, a question, budget left) and the same dialogue.
+        self._turn = ClarificationTurn(None, self.clarify_budget)
         self._by_id = {i.id: i for i in load_instructions()}
         self.selection = self._selection(episodes)
         self.skills = tuple(skill.text for skill in vocabulary())
@@ -223,10 +224,9 @@ class TalkDemEnv(gym.Env[str, str]):
         if not isinstance(episode_id, str):
             raise _bad(argument, "an episode id string", episode_id)
         try:
-            task_id, condition = parse_instruction_id(episode_id)
+            canonical = canonical_instruction_id(episode_id)
         except ValueError as error:  # names the expected shape
             raise EnvArgumentError(f"TalkDem-v0: {argument}: {error}") from None
-        canonical = f"{task_id}:{condition.pattern}:{condition.level}"
         if canonical not in self._by_id:
             raise EnvArgumentError(f"TalkDem-v0: {argument}: unknown episode id '{episode_id}'")
         return self._by_id[canonical]
@@ -263,8 +263,8 @@ class TalkDemEnv(gym.Env[str, str]):
         task = get_task(instruction.task_id)
         self.instruction, self.trace = instruction, None
         self._episode = self.backend.start(task, max_steps=self.max_steps)
-        self._person = SimulatedPerson(self.clarify, instruction, task) if self.clarify != "none" else None
-        self.dialogue = []
+        person = SimulatedPerson(self.clarify, instruction, task) if self.clarify != "none" else None
+        self._turn = ClarificationTurn(person, self.clarify_budget)
         objects = scene_objects(instruction.task_id) if show else ()
         observation = _in_space(
             instruction.text + (f"\nObjects in the scene: {', '.join(objects)}." if objects else "")
@@ -281,7 +281,7 @@ class TalkDemEnv(gym.Env[str, str]):
         }
         if objects:
             info["objects"] = objects
-        if self._person is not None:
+        if person is not None:
             info.update(questions=question_texts(), clarify=self.clarify, clarify_budget=self.clarify_budget)
         return observation, info
 
@@ -292,8 +292,9 @@ class TalkDemEnv(gym.Env[str, str]):
             raise RuntimeError(f"TalkDem-v0: episode '{self.instruction.id}' is over; call reset()")
         # Not a string (None from an agent's failed parse, a number): its text is the step, a failed one.
         text = action if isinstance(action, str) else str(action)
-        if self._person is not None and is_question(text) and len(self.dialogue) < self.clarify_budget:
-            return self._ask(text)
+        exchange = self._turn.ask(text, len(self._episode.steps))
+        if exchange is not None:
+            return self._answered(exchange)
         record = self._episode.step(text)
         # The sentence every planner reads, with the action as a failure may repeat it (`_shown_action`).
         observation = _in_space(observation_of(replace(record, skill=_shown_action(record.skill))))
@@ -320,16 +321,19 @@ class TalkDemEnv(gym.Env[str, str]):
                 end_reason=self.trace.end_reason.value,
                 trace=self.trace,
             )
-            if self._person is not None:
-                info["dialogue"] = tuple(self.dialogue)
+            dialogue = self._turn.record()
+            if dialogue is not None:
+                info["dialogue"] = dialogue
         return observation, reward, terminated, truncated, info
 
-    def _ask(self, question: str) -> tuple[str, float, bool, bool, dict[str, Any]]:
+    @property
+    def dialogue(self) -> list[Exchange]:
+        """The questions asked and answered in the current episode."""
+        return self._turn.dialogue
+
+    def _answered(self, exchange: Exchange) -> tuple[str, float, bool, bool, dict[str, Any]]:
         """A question: the simulated person's answer is the observation; the simulator does not move."""
-        assert self._person is not None and self.instruction is not None
-        assert self._episode is not None
-        exchange = self._person.ask(question, len(self._episode.steps))
-        self.dialogue.append(exchange)
+        assert self.instruction is not None
         answer = _in_space(exchange.answer)
         self._last = answer
         info: dict[str, Any] = {

@@ -1,4 +1,6 @@
-"""Plans written by any other system, executed and scored exactly like our planner's."""
+"""Plans written by any other system, executed and recorded into a run directory exactly like our planner's
+episodes (`talkdem score`); `talkdem report` scores the run like any other. To score plans in memory without a
+run directory, `talkdem.metrics.score_plans` is the one function."""
 
 from __future__ import annotations
 
@@ -20,10 +22,10 @@ from talkdem.runs.store import (
     run_lock,
     set_status,
 )
-from talkdem.schema import parse_instruction_id
+from talkdem.schema import canonical_instruction_id
 from talkdem.serialization import parse_json
 
-__all__ = ["EXTERNAL_RESUME_KEYS", "plans_digest", "read_plan_file", "score_plan_file", "score_plans"]
+__all__ = ["EXTERNAL_RESUME_KEYS", "plans_digest", "read_plan_file", "record_plan_file", "record_plans"]
 
 # A scored run is resumed or extended by the same system on the same dataset and input files (the tasks the
 # plans execute on, the instructions). Which plans it holds is checked per episode instead of by one digest
@@ -35,7 +37,7 @@ EXTERNAL_RESUME_KEYS = ("model", "planner", "strategy", "dataset_hash", "inputs"
 def read_plan_file(path: Path) -> dict[str, Plan]:
     """`{"episode_id": ..., "plan": [...]}` per line (`id` is accepted for `episode_id`); errors name the line.
 
-    Ids follow the metric's rule (`talkdem.schema.parse_instruction_id`): `<task>:clean` is the clean
+    Ids follow the metric's rule (`talkdem.schema.canonical_instruction_id`): `<task>:clean` is the clean
     instruction's short form, stored under its long form `<task>:clean:0`."""
     try:
         text = path.read_text(encoding="utf-8")
@@ -55,13 +57,12 @@ def read_plan_file(path: Path) -> dict[str, Plan]:
             raise ValueError(f"{where}: expected an object with a string 'episode_id'")
         plan = check_plan(row.get("plan"), f"{where} ({episode_id})")
         try:
-            task_id, condition = parse_instruction_id(episode_id)
+            canonical = canonical_instruction_id(episode_id)
         except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None
-        if f"{task_id}:{condition.pattern}:{condition.level}" in known:
-            episode_id = f"{task_id}:{condition.pattern}:{condition.level}"
-        if episode_id not in known:
+        if canonical not in known:
             raise ValueError(f"{where}: unknown episode id '{episode_id}'")
+        episode_id = canonical
         if episode_id in plans:
             raise ValueError(f"{where}: duplicate episode id '{episode_id}'")
         plans[episode_id] = plan
@@ -78,7 +79,7 @@ def plans_digest(plans: Mapping[str, Plan]) -> str:
     return digest.hexdigest()
 
 
-def score_plans(
+def record_plans(
     plans: Mapping[str, Plan],
     run_dir: Path,
     system_name: str,
@@ -146,7 +147,7 @@ def score_plans(
     return len(everything)
 
 
-def score_plan_file(
+def record_plan_file(
     path: Path,
     run_dir: Path,
     system_name: str,
@@ -157,7 +158,7 @@ def score_plan_file(
     version: str = "",
 ) -> int:
     """Execute every plan of `path` into `run_dir` (planner `external`); returns the number of episodes."""
-    return score_plans(
+    return record_plans(
         read_plan_file(path),
         run_dir,
         system_name,

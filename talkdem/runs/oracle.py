@@ -6,7 +6,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from talkdem.instructions import Instruction
-from talkdem.runs.external import plans_digest, score_plans
+from talkdem.runs.external import plans_digest, record_plans
 from talkdem.runs.store import EPISODES_FILE, HEADER_FILE, PACKED_EPISODES_FILE, read_header, run_lock
 from talkdem.tasks import get_task
 
@@ -20,7 +20,7 @@ def write_oracle_run(episodes: Sequence[Instruction], run_dir: Path) -> int:
     """A run directory (planner `external`, name `oracle`) whose plans are the tasks' reference plans.
 
     An oracle run of another sample, input files or code revision in `run_dir` is replaced (it is derived
-    data, cheap to remake); any other run there is refused by `score_plans`, never deleted."""
+    data, cheap to remake); any other run there is refused by `record_plans`, never deleted."""
     from talkdem.runs.revision import code_revision
     from talkdem.runs.spec import input_hashes
 
@@ -37,4 +37,4 @@ def write_oracle_run(episodes: Sequence[Instruction], run_dir: Path) -> int:
             if is_ours and stale:
                 for name in (EPISODES_FILE, PACKED_EPISODES_FILE, HEADER_FILE):
                     (run_dir / name).unlink(missing_ok=True)
-    return score_plans(plans, run_dir, ORACLE_NAME, strategy=ORACLE_STRATEGY, source="reference plans")
+    return record_plans(plans, run_dir, ORACLE_NAME, strategy=ORACLE_STRATEGY, source="reference plans")

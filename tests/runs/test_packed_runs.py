@@ -13,7 +13,7 @@ import pytest
 
 from talkdem.cli import main
 from talkdem.runs import EPISODES_FILE, PACKED_EPISODES_FILE, read_episodes, read_header
-from talkdem.runs.external import score_plans
+from talkdem.runs.external import record_plans
 from talkdem.runs.pack import pack_run, unpack_run
 from talkdem.runs.sampling import select_episodes
 from talkdem.runs.shards import merge_runs, split_run
@@ -34,7 +34,7 @@ def _plans(limit: int = 2) -> dict[str, list[str]]:
 @pytest.fixture
 def plain_run(tmp_path: Path) -> Path:
     run = tmp_path / "run"
-    score_plans(_plans(), run, "planner-x")
+    record_plans(_plans(), run, "planner-x")
     return run
 
 
@@ -95,7 +95,7 @@ def test_a_folder_with_both_files_is_refused_by_readers_and_writers(
     with pytest.raises(ValueError, match=r"holds both episodes\.jsonl and episodes\.jsonl\.gz"):
         read_episodes(plain_run)
     with pytest.raises(ValueError, match="holds both"):
-        score_plans(_plans(), plain_run, "planner-x")
+        record_plans(_plans(), plain_run, "planner-x")
     assert main(["report", str(plain_run), "--out", str(plain_run.parent / "report")]) == 2
     error = capsys.readouterr().err.strip()
     assert len(error.splitlines()) == 1 and "episodes.jsonl and episodes.jsonl.gz" in error
@@ -117,7 +117,7 @@ def test_a_partial_packed_run_is_unpacked_by_its_resume_and_finished(plain_run: 
     _cut_to(plain_run, 2)
     assert not pack_run(plain_run).changed, "an incomplete run is packed only with partial"
     assert pack_run(plain_run, partial=True).changed
-    score_plans(_plans(), plain_run, "planner-x")  # the resume: two episodes left
+    record_plans(_plans(), plain_run, "planner-x")  # the resume: two episodes left
     assert not (plain_run / PACKED_EPISODES_FILE).exists()
     assert _outcomes(plain_run) == whole and read_header(plain_run).status == "complete"
 
@@ -191,5 +191,5 @@ def test_talkdem_pack_command(plain_run: Path, tmp_path: Path, capsys: pytest.Ca
 def test_scoring_the_same_plans_into_a_complete_packed_run_leaves_it_packed(plain_run: Path) -> None:
     pack_run(plain_run)
     packed = (plain_run / PACKED_EPISODES_FILE).read_bytes()
-    assert score_plans(_plans(), plain_run, "planner-x") == 4
+    assert record_plans(_plans(), plain_run, "planner-x") == 4
     assert (plain_run / PACKED_EPISODES_FILE).read_bytes() == packed and not (plain_run / EPISODES_FILE).exists()

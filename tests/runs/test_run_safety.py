@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 from talkdem.runs import read_episodes, read_header
-from talkdem.runs.external import score_plans
+from talkdem.runs.external import record_plans
 from talkdem.runs.oracle import write_oracle_run
 from talkdem.runs.records import RecordError
 from talkdem.runs.sampling import select_episodes
@@ -92,15 +92,15 @@ def test_episodes_without_a_header_are_not_adopted(tmp_path: Path) -> None:
 def test_a_folder_of_other_files_is_not_written_into(tmp_path: Path) -> None:
     (tmp_path / "notes.txt").write_text("mine")
     with pytest.raises(ValueError, match="other files, not a run directory"):
-        score_plans(_oracle_plans(), tmp_path, "x")
+        record_plans(_oracle_plans(), tmp_path, "x")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["notes.txt"]
 
 
 def test_a_killed_score_resumes_and_reports_progress(tmp_path: Path) -> None:
     plans = _oracle_plans()
     complete, killed = tmp_path / "complete", tmp_path / "killed"
-    assert score_plans(plans, complete, "p") == 4
-    assert score_plans(plans, killed, "p") == 4
+    assert record_plans(plans, complete, "p") == 4
+    assert record_plans(plans, killed, "p") == 4
     # As if killed after two episodes, in the middle of writing the third line.
     lines = (killed / "episodes.jsonl").read_text().splitlines(keepends=True)
     (killed / "episodes.jsonl").write_text("".join(lines[:2]) + lines[2][:50])
@@ -109,7 +109,7 @@ def test_a_killed_score_resumes_and_reports_progress(tmp_path: Path) -> None:
     assert (progress.done, progress.planned, progress.complete) == (2, 4, False)
     assert "INCOMPLETE" in str(progress)
     with pytest.warns(UserWarning, match="truncated last record"):
-        score_plans(plans, killed, "p")
+        record_plans(plans, killed, "p")
     strip = [{**r.to_json(), "timing": {}} for r in read_episodes(killed)]
     assert strip == [{**r.to_json(), "timing": {}} for r in read_episodes(complete)]
     assert run_progress(killed).complete
@@ -117,15 +117,15 @@ def test_a_killed_score_resumes_and_reports_progress(tmp_path: Path) -> None:
 
 def test_resuming_a_score_with_other_plans_is_refused(tmp_path: Path) -> None:
     plans = _oracle_plans()
-    score_plans(plans, tmp_path, "p")
+    record_plans(plans, tmp_path, "p")
     changed = {**plans, next(iter(plans)): ("find a spaceship", "done")}
     with pytest.raises(ValueError, match="plans_sha256"):
-        score_plans(changed, tmp_path, "p")
+        record_plans(changed, tmp_path, "p")
 
 
 def test_a_complete_last_line_without_newline_gets_one_before_appending(tmp_path: Path) -> None:
     plans = _oracle_plans()
-    score_plans(plans, tmp_path, "p")
+    record_plans(plans, tmp_path, "p")
     path = tmp_path / "episodes.jsonl"
     records = read_episodes(tmp_path)
     path.write_text(path.read_text().rstrip("\n"))
@@ -153,14 +153,14 @@ def _rewrite_record(run_dir: Path, index: int, **changes: object) -> None:
     ],
 )
 def test_hand_edited_records_are_refused(tmp_path: Path, change: dict[str, object], message: str) -> None:
-    score_plans(_oracle_plans(), tmp_path, "p")
+    record_plans(_oracle_plans(), tmp_path, "p")
     _rewrite_record(tmp_path, 1, **change)
     with pytest.raises(RecordError, match=message):
         read_episodes(tmp_path)
 
 
 def test_an_episode_stored_twice_is_refused(tmp_path: Path) -> None:
-    score_plans(_oracle_plans(), tmp_path, "p")
+    record_plans(_oracle_plans(), tmp_path, "p")
     path = tmp_path / "episodes.jsonl"
     first = path.read_text().splitlines()[0]
     path.write_text(path.read_text() + first + "\n")
@@ -201,7 +201,7 @@ def test_the_oracle_replaces_only_its_own_run(tmp_path: Path) -> None:
     assert write_oracle_run(second, tmp_path / "oracle") == 2
     assert len(read_episodes(tmp_path / "oracle")) == 2
     other = tmp_path / "other"
-    score_plans(_oracle_plans("clean", 1), other, "my-planner")
+    record_plans(_oracle_plans("clean", 1), other, "my-planner")
     before = (other / "episodes.jsonl").read_bytes()
     with pytest.raises(ValueError, match="holds a different run"):
         write_oracle_run(second, other)
@@ -214,9 +214,9 @@ def test_headers_name_no_machine_paths(tmp_path: Path) -> None:
     plan_file.write_text(
         "".join(json.dumps({"episode_id": k, "plan": list(v)}) + "\n" for k, v in _oracle_plans().items())
     )
-    from talkdem.runs.external import score_plan_file
+    from talkdem.runs.external import record_plan_file
 
-    score_plan_file(plan_file, tmp_path / "run", "p")
+    record_plan_file(plan_file, tmp_path / "run", "p")
     assert str(tmp_path) not in (tmp_path / "run" / "header.json").read_text()
     assert read_header(tmp_path / "run").config["plans"] == "plans.jsonl"
 

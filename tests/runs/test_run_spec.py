@@ -313,13 +313,13 @@ def test_split_and_merge_keep_status_inputs_and_revisions(tmp_path: Path) -> Non
 
 
 def test_a_scored_run_records_the_files_it_read_and_its_status(tmp_path: Path) -> None:
-    from talkdem.runs.external import score_plans
+    from talkdem.runs.external import record_plans
     from talkdem.runs.sampling import select_episodes
     from talkdem.schema import parse_conditions
     from talkdem.tasks import get_task
 
     plans = {e.id: get_task(e.task_id).reference_plan for e in select_episodes(parse_conditions("clean"), 2)}
-    score_plans(plans, tmp_path / "run", "p")
+    record_plans(plans, tmp_path / "run", "p")
     header = read_header(tmp_path / "run")
     assert header.status == "complete" and header.inputs == input_hashes(planner=False)
 
@@ -344,14 +344,14 @@ def test_a_strategys_arguments_are_its_plain_settings(monkeypatch: pytest.Monkey
 
 @pytest.mark.parametrize("steps", [-5, 2.7])
 def test_report_refuses_an_impossible_step_limit_in_one_line(tmp_path: Path, steps: float) -> None:
-    from talkdem.runs.external import score_plans
+    from talkdem.runs.external import record_plans
     from talkdem.runs.sampling import select_episodes
     from talkdem.schema import parse_conditions
     from talkdem.tasks import get_task
 
     run_dir = tmp_path / "run"
     plans = {e.id: get_task(e.task_id).reference_plan for e in select_episodes(parse_conditions("clean"), 2)}
-    score_plans(plans, run_dir, "p")
+    record_plans(plans, run_dir, "p")
     stored = json.loads((run_dir / "header.json").read_text())
     stored["config"]["max_steps"] = steps
     (run_dir / "header.json").write_text(json.dumps(stored))

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from talkdem.runs import read_episodes, read_header
-from talkdem.runs.external import read_plan_file, score_plan_file
+from talkdem.runs.external import read_plan_file, record_plan_file
 from talkdem.runs.sampling import select_episodes, stratified_task_ids
 from talkdem.schema import Condition, parse_conditions
 from talkdem.tasks import get_task
@@ -103,7 +103,7 @@ def test_external_plans_are_executed_and_scored(tmp_path: Path) -> None:
     rows = [{"episode_id": e.id, "plan": list(get_task(e.task_id).reference_plan)} for e in episodes]
     rows[1]["plan"] = ["find a spaceship", "done"]
     plan_file.write_text("".join(json.dumps(r) + "\n" for r in rows))
-    assert score_plan_file(plan_file, tmp_path / "ext", "my-planner") == 4
+    assert record_plan_file(plan_file, tmp_path / "ext", "my-planner") == 4
     records = read_episodes(tmp_path / "ext")
     assert [r.success for r in records] == [True, False, True, True]
     assert records[1].trace["steps"][0]["message"] == "instruction not supported"
