@@ -17,7 +17,7 @@ def register(subparsers: Any) -> None:
     parser = subparsers.add_parser(
         "sweep", help="run a YAML grid of models x strategies x conditions x tasks, locally or on Ray"
     )
-    parser.add_argument("spec", type=Path, metavar="SPEC", help="the sweep's YAML file (README, 'Sweeps')")
+    parser.add_argument("spec", type=Path, metavar="SPEC", help="the sweep's YAML file (docs/serving.md, 'Sweeps')")
     parser.add_argument("--out", type=folder_path, help="the output root (default: the spec's `out`)")
     parser.add_argument(
         "--only",

@@ -150,14 +150,14 @@ def test_labels_persist_in_the_browser(session: dict[str, Any]) -> None:
 
 
 def test_every_committed_run_renders(tmp_path: Path) -> None:
-    """`talkdem view` over every committed run directory at once (the paper's runs, the clarification runs, the
-    ReAct sample), 11,532 episodes."""
+    """`talkdem view` over every committed run directory at once (the paper's runs and the clarification runs),
+    11,520 episodes."""
     from talkdem.cli import main
 
     dirs = sorted(p.parent for p in PAPER.parent.rglob("header.json") if ".sweep" not in p.parts)
-    assert len(dirs) == 13
+    assert len(dirs) == 12
     assert main(["view", *map(str, dirs), "--out", str(tmp_path / "all")]) == 0
     index = index_of(tmp_path / "all")
-    assert sorted(r["episodes"] for r in index["runs"]) == [12] + [960] * 12
+    assert sorted(r["episodes"] for r in index["runs"]) == [960] * 12
     seen = drive(tmp_path / "all" / "index.html", "out.count = $('count').textContent; finish();", tmp_path / "p")
-    assert seen["count"] == "11,532 of 11,532 episodes"
+    assert seen["count"] == "11,520 of 11,520 episodes"
