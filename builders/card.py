@@ -571,8 +571,9 @@ user-supplied folder.
 
 ```bibtex
 @misc{{talkdem2026,
-  title  = {{TALK-Dem: Robot Task Planning under Dementia-Associated Communication}},
-  author = {{TALK-Dem authors}},
+  title  = {{{{TALK-Dem}}: Benchmarking Embodied Task Planning under Dementia-Associated Communication Patterns}},
+  author = {{Zhao, Guangxin and Hu, Yiran and Cao, Yuan and Jiang, Chenxi and Yang, Jianfei and Du, Yegang and
+            Taki, Yasuyuki and Kitamura, Yoshifumi and Gu, Lin and Zheng, Zhi}},
   year   = {{2026}}
 }}
 @inproceedings{{shridhar2020alfred,

@@ -510,3 +510,18 @@ def test_the_readme_pattern_examples_are_rows_of_the_dataset() -> None:
     for name, example in shown.items():
         assert example == text_of(names[name].config, "level_3"), name
     assert clean == text_of("clean", "test")
+
+
+def _paper_entry(text: str) -> str:
+    match = re.search(r"^@misc\{talkdem2026,\n.*?^\}$", text, flags=re.MULTILINE | re.DOTALL)
+    assert match, "no @misc{talkdem2026, ...} entry"
+    return match.group(0)
+
+
+def test_the_readme_and_the_dataset_card_cite_the_paper_alike() -> None:
+    # The card is generated (builders/card.py); the README is written by hand: one entry, the paper's title and authors.
+    entry = _paper_entry(README.read_text(encoding="utf-8"))
+    assert entry == _paper_entry((repo_root() / "dataset_card.md").read_text(encoding="utf-8"))
+    tex = (repo_root().parent / "shared" / "paper" / "talk-dem-paper.tex").read_text(encoding="utf-8")
+    title = re.search(r"\\title\{(.*)\}", tex)
+    assert title and title.group(1).replace("TALK-Dem", "{TALK-Dem}") in entry
