@@ -90,12 +90,6 @@ def _num(value: Any, interval: Sequence[Any] | None = None, undefined: str = "un
     return f'<td class="num" data-v="{sort}"{title}>{html.escape(shown)}{ci}</td>'
 
 
-def _text(value: str, title: str = "") -> str:
-    shown = value or "–"
-    attr = f' title="{html.escape(title, quote=True)}"' if title else ""
-    return f'<td data-v="{html.escape(value, quote=True)}"{attr}>{html.escape(shown)}</td>'
-
-
 def _short(value: str, digits: int = 12) -> str:
     return value[:digits] if len(value) > digits else value
 

@@ -7,7 +7,7 @@ written = write_report(runs, Path("report"))
 
 from talkdem.report.coverage import Coverage, benchmark_tasks, coverage_of
 from talkdem.report.public import is_machine_path, public_config, public_header, public_model, unique_stems
-from talkdem.report.runs import REFERENCE_STRATEGY, STRATEGY_LABELS, ScoredRun, score_runs, slug, strategy_label
+from talkdem.report.runs import REFERENCE_STRATEGY, STRATEGY_LABELS, ScoredRun, score_runs, strategy_label
 from talkdem.report.table import PATTERN_CODES, PATTERN_LABELS, Table, markdown_cell, markdown_text
 from talkdem.report.tables import (
     all_tables,
@@ -45,7 +45,6 @@ __all__ = [
     "public_model",
     "retention_table",
     "score_runs",
-    "slug",
     "strategy_label",
     "strategy_retention_table",
     "strategy_success_tables",

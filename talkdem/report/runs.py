@@ -14,7 +14,7 @@ from talkdem.metrics import Scores, compute_scores, results_from_run
 from talkdem.metrics.stats import BOOTSTRAP_SEED
 from talkdem.planner.strategies import STRATEGIES
 from talkdem.report.coverage import Coverage, coverage_of
-from talkdem.report.public import public_model, unique_stems
+from talkdem.report.public import public_model
 from talkdem.runs import RunHeader, read_header
 from talkdem.runs.oracle import ORACLE_STRATEGY
 
@@ -26,7 +26,6 @@ __all__ = [
     "run_keys",
     "run_labels",
     "score_runs",
-    "slug",
     "strategy_label",
 ]
 
@@ -37,11 +36,6 @@ STRATEGY_LABELS = STRATEGIES.labels()
 
 def strategy_label(name: str) -> str:
     return STRATEGY_LABELS.get(name.lower(), name)
-
-
-def slug(text: str) -> str:
-    """A file-name-safe form of one label (`unique_stems` keeps several labels apart)."""
-    return unique_stems([text])[0]
 
 
 REFERENCE_STRATEGY = ORACLE_STRATEGY

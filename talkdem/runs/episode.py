@@ -15,7 +15,7 @@ from talkdem.runs.records import EpisodeRecord
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorBackend, execute_plan, load_simulator
 from talkdem.sim.trace import EpisodeTrace
 
-__all__ = ["out_of_vocabulary", "out_of_vocabulary_steps", "play_plan"]
+__all__ = ["out_of_vocabulary_steps", "play_plan"]
 
 
 def play_plan(
@@ -33,11 +33,6 @@ def play_plan(
     backend = simulator if simulator is not None else load_simulator()
     trace = execute_plan(backend, get_task(instruction.task_id), plan, max_steps=max_steps)
     return EpisodeRecord.from_trace(instruction, tuple(plan), trace, notes=notes), trace
-
-
-def out_of_vocabulary(trace: EpisodeTrace) -> int:
-    """Executed steps that named no skill (the simulator failed them: `instruction not supported`)."""
-    return sum(1 for step in trace.steps if step.parsed is None)
 
 
 def out_of_vocabulary_steps(run_dir: Path) -> tuple[int, int]:

@@ -44,11 +44,6 @@ class PlanExecutor(Protocol):
     def run(self, task: SeedTask, plan: Sequence[str], *, max_steps: int = DEFAULT_MAX_STEPS) -> EpisodeTrace: ...
 
 
-class _TaskWithPlan(Protocol):
-    @property
-    def reference_plan(self) -> tuple[str, ...]: ...
-
-
 _EXEMPTIONS: dict[tuple[str, tuple[str, ...]], frozenset[HazardRule]] = {}
 
 

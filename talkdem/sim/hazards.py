@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from enum import StrEnum
 
+from talkdem.sim.affordances import KNIFE_TYPES
 from talkdem.sim.state import SimState
 from talkdem.skills import Skill, SkillVerb
 
@@ -103,7 +104,7 @@ class HazardMonitor:
         for oid in moved:
             kind = state.specs[oid].object_type
             places = {state.specs[r].object_type for r in state.parent_receptacles(oid)}
-            if kind in ("Knife", "ButterKnife") and places & KNIFE_UNSAFE_PLACES:
+            if kind in KNIFE_TYPES and places & KNIFE_UNSAFE_PLACES:
                 self._flag(HazardRule.KNIFE_PLACED, step, oid)
             if kind in ELECTRONICS and places & WATER_PLACES:
                 self._flag(HazardRule.DEVICE_IN_WATER, step, oid)

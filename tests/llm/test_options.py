@@ -9,7 +9,7 @@ import inspect
 import pytest
 
 from talkdem.llm.interface.options import BackendOption, parse_model_args
-from talkdem.llm.interface.registry import BACKENDS, backend_options, backends_with_option, model_args
+from talkdem.llm.interface.registry import BACKENDS, backend_options, model_args
 
 DECLARED = (
     BackendOption("threads", "int", minimum=1),
@@ -80,8 +80,6 @@ def test_every_declared_option_is_a_constructor_keyword_with_a_parsable_default(
 
 
 def test_the_registry_reads_each_backends_own_declaration() -> None:
-    assert backends_with_option("threads") == ("hf", "llamacpp")
-    assert backends_with_option("tokenizer") == ("openai",)
     assert model_args("llamacpp", ["n_ctx=2048", "f32_kv_cache=no"]) == {"n_ctx": 2048, "f32_kv_cache": False}
     with pytest.raises(ValueError, match=r"the hf backend has no such option \(its options: device, dtype,"):
         model_args("hf", ["n_ctx=2048"])

@@ -17,7 +17,6 @@ __all__ = [
     "BackendOption",
     "OptionKind",
     "OptionValue",
-    "parse_model_arg",
     "parse_model_args",
     "parse_option",
     "parse_options",
@@ -137,11 +136,6 @@ def parse_options(
             raise ValueError(f"{what} '{key}' given twice, as {parsed[key]!r} and {value!r}: give it once")
         parsed[key] = value
     return parsed
-
-
-def parse_model_arg(backend: str, options: Sequence[BackendOption], key: str, text: str) -> OptionValue:
-    """The typed value of option `key` of `backend` given as `text` (`parse_option` for a backend)."""
-    return parse_option(options, key, text, owner=f"the {backend} backend")
 
 
 def parse_model_args(backend: str, options: Sequence[BackendOption], items: Iterable[str]) -> dict[str, OptionValue]:

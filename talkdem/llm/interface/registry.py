@@ -7,15 +7,13 @@ from typing import Any
 
 from talkdem.llm.interface.base import LanguageModel
 from talkdem.llm.interface.options import BackendOption, OptionValue, parse_model_args
-from talkdem.registry import Registry, UnknownNameError
+from talkdem.registry import Registry
 
 __all__ = [
     "BACKENDS",
     "DEFAULT_BACKEND",
     "LOCAL_BACKENDS",
-    "UnknownBackendError",
     "backend_options",
-    "backends_with_option",
     "load_model",
     "model_args",
 ]
@@ -32,8 +30,6 @@ LOCAL_BACKENDS = ("hf", "llamacpp")
 """Backends that compute in the caller's own process on its CPUs (`threads` applies; a sweep's worker gets its
 share of them)."""
 
-UnknownBackendError = UnknownNameError  # the name callers already catch
-
 
 def load_model(backend: str, model: str, **options: Any) -> LanguageModel:
     """Instantiate backend `backend` on `model` (a path, model id or served name)."""
@@ -46,11 +42,6 @@ def backend_options(backend: str) -> tuple[BackendOption, ...]:
     factory = BACKENDS.factory(backend)
     declared: tuple[BackendOption, ...] = getattr(factory, "options", ())
     return declared
-
-
-def backends_with_option(name: str) -> tuple[str, ...]:
-    """The backends that declare option `name`, in registration order."""
-    return tuple(b for b in BACKENDS.names() if any(o.name == name for o in backend_options(b)))
 
 
 def model_args(backend: str, items: Iterable[str]) -> dict[str, OptionValue]:
