@@ -167,8 +167,8 @@ def _clarification(
     if len(questions) != len(references):
         raise ValueError(f"{len(questions)} question counts for {len(references)} references")
     successes = {e.instruction_id: e.success for e in scores.episodes}
-    by_reference = {e.instruction_id: e for e in scores.episodes}
-    counts = dict(zip(_ids(references, by_reference), questions, strict=True))
+    # Scoring keys each episode by its reference as given (`<task>:clean` stays short), so the references are the keys.
+    counts = dict(zip(references, questions, strict=True))
     baseline = None
     if without is not None:
         check_predictions(without, references)
@@ -177,8 +177,3 @@ def _clarification(
     found = clarification_from_outcomes(successes, counts, baseline)
     flat = found.flat() if found is not None else {}
     return {k: None if isinstance(v, float) and math.isnan(v) else v for k, v in flat.items()}
-
-
-def _ids(references: list[str], known: dict[str, Any]) -> list[str]:
-    """Each reference as the episode id scoring gave it (`<task>:clean` is `<task>:clean:0`)."""
-    return [r if r in known else f"{r}:0" for r in references]

@@ -41,3 +41,15 @@ def test_clarification_inputs_must_fit(metric: Any) -> None:
         metric.compute(predictions=[reference(BOOK)], references=refs, bootstrap=0, questions=[1, 2])
     with pytest.raises(ValueError, match="give `questions`"):
         metric.compute(predictions=[reference(BOOK)], references=refs, bootstrap=0, without=[reference(BOOK)])
+
+
+def test_the_clean_ids_short_form_counts_its_questions_the_same(metric: Any) -> None:
+    asked = [reference(BOOK), reference(BOOK), reference(LAMP), reference(LAMP)]
+    plain = [reference(BOOK), failing(BOOK), reference(LAMP), failing(LAMP)]
+    outs = []
+    for clean in (clean_id, lambda task: f"{task}:clean"):
+        refs = [clean(BOOK), pattern_id(BOOK, "intrusion", 1), clean(LAMP), pattern_id(LAMP, "intrusion", 1)]
+        outs.append(
+            metric.compute(predictions=asked, references=refs, bootstrap=0, questions=[1, 2, 0, 0], without=plain)
+        )
+    assert outs[0] == outs[1] and outs[1]["clarify/questions/clean"] == 0.5
