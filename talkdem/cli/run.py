@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 
 __all__ = ["REMOVED_FLAGS", "config_of", "register", "run"]
 
-REMOVED_FLAGS = {
+REMOVED_FLAGS: dict[str, tuple[str, str | None, str | None]] = {
     "--tokenizer": ("--model-arg", "tokenizer", None),
     "--scoring-api": ("--model-arg", "scoring_api", None),
     "--prompt-format": ("--model-arg", "prompt_format", None),
@@ -28,9 +28,11 @@ REMOVED_FLAGS = {
     "--care-dedupe": ("--strategy-arg", "dedupe", "true"),
     "--generation-tokens": ("--strategy-arg", "max_new_tokens", None),
     "--generation-plain": ("--strategy-arg", "chat", "false"),
+    "--no-mask-failed": ("--feedback none (--feedback message where it followed --feedback both)", None, ""),
 }
-"""Flags that were shorthand for one backend or strategy option: {flag: (its replacement, the option, the value
-a switch stood for)}. Still parsed, so that a script using one is told what to write instead."""
+"""Flags that were shorthand for one backend or strategy option, or for another flag's value: {flag: (its
+replacement, the option, the value a switch stood for)}; with no option, the replacement is written out whole.
+Still parsed, so that a script using one is told what to write instead."""
 
 
 class _Removed(argparse.Action):
@@ -40,7 +42,8 @@ class _Removed(argparse.Action):
         flag = str(option)
         replacement, key, switch = REMOVED_FLAGS[flag]
         given = switch if switch is not None else values
-        namespace.removed = [*getattr(namespace, "removed", []), f"{flag} was removed: use {replacement} {key}={given}"]
+        instead = f"{replacement} {key}={given}" if key else replacement
+        namespace.removed = [*getattr(namespace, "removed", []), f"{flag} was removed: use {instead}"]
 
 
 def register(subparsers: Any) -> None:
@@ -106,7 +109,6 @@ def register(subparsers: Any) -> None:
         metavar="HOW",
         help="after a failed skill: message (its text), mask, both, none",
     )
-    planner.add_argument("--no-mask-failed", action="store_true", help="(older flag) --feedback mask: do not mask")
     planner.add_argument(
         "--thought-tokens",
         type=positive_int,
@@ -131,7 +133,7 @@ def register(subparsers: Any) -> None:
     )
     episodes.add_argument("--no-progress", action="store_true")
     for flag, (_, _, switch) in REMOVED_FLAGS.items():
-        parser.add_argument(flag, action=_Removed, nargs=0 if switch else None, help=argparse.SUPPRESS)
+        parser.add_argument(flag, action=_Removed, nargs=0 if switch is not None else None, help=argparse.SUPPRESS)
     parser.set_defaults(handler=run)
 
 

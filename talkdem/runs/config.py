@@ -76,7 +76,6 @@ class RunConfig:
     max_steps: int = DEFAULT_MAX_STEPS
     scoring: str = "sum"
     feedback: str = "message"
-    no_mask_failed: bool = False
     thought_tokens: int = DEFAULT_THOUGHT_TOKENS
     log_top: int = 0
     clarify: Clarify = "none"
@@ -272,7 +271,6 @@ _READERS: dict[str, Callable[[str, object], Any]] = {
     "max_steps": _whole(1),
     "scoring": _one_of(SCORINGS),
     "feedback": _one_of(FEEDBACKS),
-    "no_mask_failed": _switch,
     "thought_tokens": _whole(1),
     "log_top": _whole(0),
     "clarify": _one_of(CLARIFY_MODES),

@@ -79,8 +79,8 @@ def plan_run(run: RunConfig) -> RunPlan:
         )
     config: SayCanConfig | ReActConfig
     if run.planner == "react":
-        if run.log_top or run.no_mask_failed or run.scoring != "sum":
-            raise ValueError("--log-top, --no-mask-failed and --scoring are for the SayCan planners, not react")
+        if run.log_top or run.scoring != "sum":
+            raise ValueError("--log-top and --scoring are for the SayCan planners, not react")
         config = ReActConfig(
             max_steps=run.max_steps,
             thought_tokens=run.thought_tokens,
@@ -88,13 +88,8 @@ def plan_run(run: RunConfig) -> RunPlan:
             clarify_budget=run.questions,
         )
     else:
-        feedback = run.feedback
-        if run.no_mask_failed:
-            if feedback not in ("mask", "both"):
-                raise ValueError(f"--no-mask-failed turns masking off, and --feedback {feedback} does not mask")
-            feedback = {"mask": "none", "both": "message"}[feedback]
         config = SayCanConfig.with_feedback(
-            feedback,
+            run.feedback,
             max_steps=run.max_steps,
             scoring=run.scoring,
             mode=run.planner,

@@ -77,7 +77,6 @@ PLANNER_ARGS = {
     "feedback": "feedback",
     "thought_tokens": "thought_tokens",
     "log_top": "log_top",
-    "no_mask_failed": "no_mask_failed",
     "clarify": "clarify",
     "clarify_budget": "clarify_budget",
 }

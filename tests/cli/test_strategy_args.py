@@ -70,6 +70,10 @@ def test_the_declared_options_are_the_names_the_header_records() -> None:
         (["--care-dedupe"], "--care-dedupe was removed: use --strategy-arg dedupe=true"),
         (["--generation-tokens", "64"], "--generation-tokens was removed: use --strategy-arg max_new_tokens=64"),
         (["--generation-plain"], "--generation-plain was removed: use --strategy-arg chat=false"),
+        (
+            ["--no-mask-failed"],
+            "--no-mask-failed was removed: use --feedback none (--feedback message where it followed --feedback both)",
+        ),
     ],
 )
 def test_a_bad_strategy_arg_is_one_line_and_exit_2(

@@ -110,7 +110,7 @@ _TEXT = r"expected a non-empty string, got "
         (("planner", "max_steps"), [4], "planner.max_steps", r"expected a value \(text or a number\), got a list"),
         (("planner", "max_steps"), {"a": 1}, "planner.max_steps", r"expected a value .*, got a mapping"),
         (("planner", "max_steps"), None, "planner.max_steps", r"expected a value .*, got nothing"),
-        (("planner", "no_mask_failed"), [True], "planner.no_mask_failed", r"expected true or false, got a list"),
+        (("planner", "no_mask_failed"), True, "planner.no_mask_failed", r"unknown key; expected one of type"),
         (("models", 0, "args", "concurrency"), None, "models[0].args.concurrency", r"expected a value .*nothing"),
         (("models", 0, "args", "tokenizer"), {"a": 1}, "models[0].args.tokenizer", r"expected a value .*mapping"),
         (("models", 0, "model_args", "n_ctx"), None, "models[0].model_args.n_ctx", r"expected a value .*nothing"),
