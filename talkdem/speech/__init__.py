@@ -16,7 +16,6 @@ from talkdem.speech.base import (
     derive_seed,
     get_generator,
     register_generator,
-    registered_generators,
 )
 
 __all__ = [
@@ -27,5 +26,4 @@ __all__ = [
     "derive_seed",
     "get_generator",
     "register_generator",
-    "registered_generators",
 ]

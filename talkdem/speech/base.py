@@ -33,7 +33,6 @@ __all__ = [
     "generate_checked",
     "get_generator",
     "register_generator",
-    "registered_generators",
 ]
 
 
@@ -111,10 +110,6 @@ RETIRED = {"rules-v2": ("500d9bf", "builders/generation/rules.py")}
 def register_generator(name: str, factory: str | Callable[[], Generator]) -> None:
     """Register a generator's factory, or its `module:attribute` (imported when the generator is asked for)."""
     GENERATORS.register(name, factory)
-
-
-def registered_generators() -> tuple[str, ...]:
-    return tuple(sorted(GENERATORS))
 
 
 def check_generator_name(name: str) -> None:

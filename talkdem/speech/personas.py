@@ -13,7 +13,7 @@ import random
 from dataclasses import dataclass
 from functools import cache
 
-__all__ = ["PART_BANKS", "Persona", "Relative", "Work", "persona_for"]
+__all__ = ["Persona", "Relative", "Work", "persona_for"]
 
 
 @dataclass(frozen=True)
@@ -204,21 +204,6 @@ _STREETS = (
     "Albert Road", "Mill Lane", "Station Street", "Park Terrace", "Church Walk", "Victoria Avenue",
     "Chapel Row", "Queen Street", "Oak Close", "Rose Hill", "Canal Street", "Market Square",
 )  # fmt: skip
-
-PART_BANKS: dict[str, int] = {
-    "spouse": len(_HUSBANDS) + len(_WIVES),
-    "child": len(_SONS) + len(_DAUGHTERS),
-    "grandchild": len(_GRANDSONS) + len(_GRANDDAUGHTERS),
-    "sibling": len(_BROTHERS) + len(_SISTERS),
-    "friend": len(_FRIENDS),
-    "work": len(_WORKS),
-    "hometown": len(_HOMETOWNS),
-    "holiday": len(_HOLIDAYS),
-    "habit": len(_HABITS),
-    "pet": len(_PETS),
-    "street": len(_STREETS),
-}
-"""Entries per bank (shown in the card): the personas are their combinations."""
 
 
 def _rng(task_id: str, part: str) -> random.Random:

@@ -15,7 +15,6 @@ from talkdem.speech.lexicon import STATE_WORDS, TASK_VERBS, Mention, mentions_of
 from talkdem.tasks import Task
 
 __all__ = [
-    "ROLES",
     "TaskTerms",
     "noun_phrase",
     "request_body",
@@ -27,8 +26,6 @@ __all__ = [
     "verb_lemma",
 ]
 
-ROLES = ("target", "destination", "container", "toggle")
-"""Task roles an utterance must name: the object, its destination, the movable container, the lamp."""
 
 _VERB_FORMS = {form: lemma for lemma, forms in TASK_VERBS.items() for form in forms}
 _STATE_FORMS = {word: kind for kind, words in STATE_WORDS.items() for word in words}
