@@ -1,0 +1,64 @@
+"""The committed reports are what today's code computes from the committed runs.
+
+A report is the number people quote; one built by older code is a stale result that nothing else would notice.
+Each report's tables and score files are rebuilt here from the run folders its README names, in the same order,
+and compared byte for byte (plots are left out: their pixels depend on the machine's fonts, and they are drawn
+from the same scores).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from talkdem.cli import main
+from talkdem.paths import repo_root
+
+PAPER = "results/paper"
+CLARIFY = "results/clarify"
+REPORTS = {
+    f"{PAPER}/report": [
+        f"{PAPER}/qwen2.5-coder-0.5b-vanilla",
+        f"{PAPER}/qwen2.5-coder-0.5b-ap",
+        f"{PAPER}/qwen2.5-coder-0.5b-cot",
+        f"{PAPER}/qwen2.5-coder-0.5b-icl",
+        f"{PAPER}/qwen2.5-coder-0.5b-tocc",
+        f"{PAPER}/qwen2.5-coder-0.5b-care",
+        f"{PAPER}/qwen2.5-coder-1.5b-vanilla",
+        f"{PAPER}/qwen2.5-coder-1.5b-care",
+    ],
+    f"{CLARIFY}/report": [
+        f"{PAPER}/qwen2.5-coder-0.5b-vanilla",
+        f"{CLARIFY}/oracle/qwen2.5-coder-0.5b-vanilla",
+        f"{CLARIFY}/in-pattern/qwen2.5-coder-0.5b-vanilla",
+        f"{PAPER}/qwen2.5-coder-0.5b-care",
+        f"{CLARIFY}/oracle/qwen2.5-coder-0.5b-care",
+        f"{CLARIFY}/in-pattern/qwen2.5-coder-0.5b-care",
+    ],
+}
+
+
+def _files(folder: Path) -> dict[str, bytes]:
+    return {
+        str(path.relative_to(folder)): path.read_bytes()
+        for part in ("tables", "scores")
+        for path in sorted((folder / part).rglob("*"))
+        if path.is_file()
+    }
+
+
+@pytest.mark.parametrize("report", sorted(REPORTS))
+def test_a_committed_report_is_what_the_code_computes_from_its_runs(
+    report: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    root = repo_root()
+    runs = REPORTS[report]
+    readme = (root / report).parent / "README.md"
+    # The runs are named as the README tells a reader to rebuild the report (README lines wrap anywhere).
+    assert all(run.rsplit("/", 1)[-1] in readme.read_text(encoding="utf-8") for run in runs)
+    assert main(["report", *(str(root / run) for run in runs), "--no-plots", "--out", str(tmp_path)]) == 0
+    capsys.readouterr()
+    rebuilt, committed = _files(tmp_path), _files(root / report)
+    assert sorted(rebuilt) == sorted(committed)
+    assert [name for name in sorted(rebuilt) if rebuilt[name] != committed[name]] == []
