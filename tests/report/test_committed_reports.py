@@ -1,4 +1,4 @@
-"""The committed reports are what today's code computes from the committed runs.
+"""The committed reports and leaderboard are what today's code computes from the committed runs.
 
 A report is the number people quote; one built by older code is a stale result that nothing else would notice.
 Each report's tables and score files are rebuilt here from the run folders its README names, in the same order,
@@ -62,3 +62,15 @@ def test_a_committed_report_is_what_the_code_computes_from_its_runs(
     rebuilt, committed = _files(tmp_path), _files(root / report)
     assert sorted(rebuilt) == sorted(committed)
     assert [name for name in sorted(rebuilt) if rebuilt[name] != committed[name]] == []
+
+
+def test_the_committed_leaderboard_is_what_the_code_computes_from_its_runs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    root = repo_root()
+    assert main(["leaderboard", *(str(root / run) for run in REPORTS[f"{PAPER}/report"]), "--out", str(tmp_path)]) == 0
+    capsys.readouterr()
+    committed = root / PAPER / "leaderboard"
+    files = sorted(path.relative_to(committed) for path in committed.rglob("*") if path.is_file())
+    assert files == sorted(path.relative_to(tmp_path) for path in tmp_path.rglob("*") if path.is_file())
+    assert [str(name) for name in files if (tmp_path / name).read_bytes() != (committed / name).read_bytes()] == []
