@@ -185,6 +185,14 @@ def _backend_options(run: RunConfig) -> dict[str, Any]:
     if "sequences" in declared and run.concurrency > 1 and "sequences" not in options:
         # The backend keeps one sequence per episode in flight (multi-sequence llama.cpp).
         options["sequences"] = run.concurrency
+    if int(options.get("sequences", 1)) > 1 and (run.scoring == "mean" or run.log_top):
+        # Only best-skill choices run in the multi-sequence context; every score a run logs or averages comes from
+        # the serial context, whose layout the header (`model.scoring`, set by the multi-sequence context) would
+        # not name.
+        raise ValueError(
+            f"--scoring mean and --log-top score one episode at a time on {backend}: run them with --concurrency 1"
+            f" (or without --model-arg sequences)"
+        )
     if backend == "openai":
         if "tokenizer" not in options and run.planner in ("scoring", "react") and _local_tokenizer(run.model):
             # `--model` names a local model (catalog name, GGUF, tokenizer folder): its tokenizer is the served one's

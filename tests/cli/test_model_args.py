@@ -108,3 +108,16 @@ def test_a_removed_shorthand_names_its_replacement(
     error = capsys.readouterr().err
     assert error == f"talkdem run: error: {message}\n"
     assert not (tmp_path / "r").exists()
+
+
+@pytest.mark.parametrize("planner_flags", [["--scoring", "mean"], ["--log-top", "5"]])
+@pytest.mark.parametrize("batched", [["--concurrency", "4"], ["--model-arg", "sequences=4"]])
+def test_scores_the_multi_sequence_context_does_not_compute_are_refused_with_it(
+    planner_flags: list[str], batched: list[str]
+) -> None:
+    # Mean scores and logged top-N scores come from the serial context; a header naming the multi-sequence layout
+    # would say they came from another.
+    with pytest.raises(ValueError, match="score one episode at a time on llamacpp: run them with --concurrency 1"):
+        _plan(*planner_flags, *batched)
+    assert _plan(*planner_flags).options.get("sequences", 1) == 1  # serially they run
+    assert _plan(*batched).options["sequences"] == 4  # and sum-scoring choices batch
