@@ -21,16 +21,17 @@ def memory_embeddings(memory: Sequence[MemoryItem], encode: Encoder, encoder_nam
     """Unit-normalized embeddings of the memory instructions. Through a `CachedEncoder` (CARE's default encoder)
     each instruction is encoded once per machine and encoder, then read from the cache on disk."""
     texts = [item.instruction for item in memory]
-    cached = isinstance(encode, CachedEncoder)
-    pending = encode.uncached(texts) if isinstance(encode, CachedEncoder) else len(texts)
+    if isinstance(encode, CachedEncoder):
+        pending, kept = encode.uncached(texts), "; once per machine, then cached"
+    else:
+        pending, kept = len(texts), ""
     if not pending:
         return np.asarray(encode(texts), dtype=np.float64)
     # The first CARE run on a machine embeds the whole bank (1,600 texts: ~40 s on 2 cores); say so, with the
     # count and the rate, instead of a silent pause (a terminal also gets the encoder's bar, `talkdem.embeddings`).
     part = "" if pending == len(texts) else f"{pending:,} of "
     print(
-        f"CARE: embedding the memory bank ({part}{len(texts):,} instructions, {encoder_name})"
-        + ("; once per machine, then cached" if cached else ""),
+        f"CARE: embedding the memory bank ({part}{len(texts):,} instructions, {encoder_name}){kept}",
         file=sys.stderr,
         flush=True,
     )

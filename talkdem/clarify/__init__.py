@@ -12,6 +12,7 @@ from talkdem.clarify.person import (
     slot_type,
 )
 from talkdem.clarify.questions import QUESTION_MARKER, QUESTIONS, Slot, is_question, match_question, question_texts
+from talkdem.clarify.turn import ClarificationTurn
 
 __all__ = [
     "CLARIFY_MODES",
@@ -19,6 +20,7 @@ __all__ = [
     "PERSON_SEED",
     "QUESTIONS",
     "QUESTION_MARKER",
+    "ClarificationTurn",
     "ClarifyMode",
     "Exchange",
     "SimulatedPerson",

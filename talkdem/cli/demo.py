@@ -119,18 +119,18 @@ def run(args: argparse.Namespace) -> int:
 
 
 COMMITTED = Path("results") / "paper"
-COMMITTED_MODEL = "qwen2.5-coder-0.5b"
 
 
 def _print_committed_runs(strategies: list[str]) -> None:
     """The paper's runs committed with the repository for the demo's strategies (default model, 60 tasks x 16
     conditions), re-scored now (not re-run): labelled as what they are, with each run's coverage (a partial run
     says INCOMPLETE), so the live sample's rates can be read against rates over 960 episodes."""
+    from talkdem.llm.interface.models import DEFAULT_MODEL
     from talkdem.paths import repo_root
     from talkdem.report import score_runs, success_table
 
     folder = repo_root() / COMMITTED
-    found = [folder / f"{COMMITTED_MODEL}-{strategy}" for strategy in strategies]
+    found = [folder / f"{DEFAULT_MODEL}-{strategy}" for strategy in strategies]
     run_dirs = [d for d in found if (d / "header.json").is_file()]
     print(f"\n== 4. The committed runs ({COMMITTED}: recorded runs re-scored now, not run by this demo) ==")
     if not run_dirs:

@@ -39,9 +39,8 @@ from typing import Any
 import gymnasium as gym
 from gymnasium import spaces
 
-from talkdem.clarify import CLARIFY_MODES, ClarifyMode, Exchange, SimulatedPerson, question_texts
+from talkdem.clarify import CLARIFY_MODES, ClarificationTurn, ClarifyMode, Exchange, SimulatedPerson, question_texts
 from talkdem.instructions import Instruction, load_instructions
-from talkdem.planner.stepping import ClarificationTurn
 from talkdem.registry import UnknownNameError
 from talkdem.schema import canonical_instruction_id
 from talkdem.sim.observation import observation_of
@@ -180,7 +179,7 @@ class TalkDemEnv(gym.Env[str, str]):
             self.backend = simulator
         else:
             raise _bad("simulator", "a simulator name (symbolic, ai2thor) or a SimulatorBackend", simulator)
-        # The clarification turn our planners take (`talkdem.planner.stepping`): the same rule for when a string
+        # The clarification turn our planners take (`talkdem.clarify.turn`): the same rule for when a string
         # is a question (a person to ask, a question, budget left) and the same dialogue.
         self._turn = ClarificationTurn(None, self.clarify_budget)
         self._by_id = {i.id: i for i in load_instructions()}

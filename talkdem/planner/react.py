@@ -34,12 +34,13 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal, cast
 
 from talkdem.clarify.questions import is_question, question_texts
+from talkdem.clarify.turn import ClarificationTurn
 from talkdem.llm.interface.base import BestContinuation, LanguageModel
 from talkdem.llm.interface.requests import ChoiceRequest, GenerateRequest
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration
 from talkdem.planner.saycan import PlanResult, check_clarify
-from talkdem.planner.stepping import ClarificationTurn, EpisodeSteps, drive
+from talkdem.planner.stepping import EpisodeSteps, drive
 from talkdem.planner.strategies import PlannerInput
 from talkdem.seeds.records import SeedTask
 from talkdem.sim.observation import observation_of

@@ -33,11 +33,12 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal, cast
 
 from talkdem.clarify.questions import is_question, question_texts
+from talkdem.clarify.turn import ClarificationTurn
 from talkdem.llm.interface.base import BestContinuation, LanguageModel
 from talkdem.llm.interface.requests import ChoiceRequest, GenerateRequest, ScoreRequest
 from talkdem.planner.examples import task_type_examples
 from talkdem.planner.prompt import Demonstration, append_exchange, append_step, build_prompt, clarify_intro
-from talkdem.planner.stepping import ClarificationTurn, EpisodeSteps, drive
+from talkdem.planner.stepping import EpisodeSteps, drive
 from talkdem.planner.strategies import PlannerInput
 from talkdem.seeds.records import SeedTask
 from talkdem.sim.seam import DEFAULT_MAX_STEPS, SimulatorBackend, load_simulator

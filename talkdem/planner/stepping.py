@@ -7,24 +7,18 @@ model: `drive` answers them one at a time (what `plan()` does); the run schedule
 keeps many episodes in flight and hands the model all their pending requests at once, as lm-evaluation-harness
 hands a backend every request of a kind.
 
-The clarification turn (`ClarificationTurn`) lives here once for every planner: which questions are offered
-while the budget lasts, and answering a chosen question by the simulated person.
+Every planner takes its clarification turn through `talkdem.clarify.ClarificationTurn`, as the Gymnasium env does.
 """
 
 from __future__ import annotations
 
 from collections.abc import Generator
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, TypeVar
+from typing import TypeVar
 
-from talkdem.clarify.questions import is_question, question_texts
 from talkdem.llm.interface.base import LanguageModel, answer_requests
 from talkdem.llm.interface.requests import ModelRequest
 
-if TYPE_CHECKING:
-    from talkdem.clarify import Exchange, SimulatedPerson
-
-__all__ = ["ClarificationTurn", "EpisodeSteps", "drive"]
+__all__ = ["EpisodeSteps", "drive"]
 
 Result = TypeVar("Result")
 
@@ -42,34 +36,3 @@ def drive(steps: EpisodeSteps[Result], model: LanguageModel) -> Result:
     except StopIteration as finished:
         result: Result = finished.value
         return result
-
-
-@dataclass
-class ClarificationTurn:
-    """The questions of one episode: offered while the budget lasts, answered by the simulated person.
-
-    A question is not an action: the planner that chose one writes the exchange into its context and chooses
-    again; it does not count towards the step limit (the budget bounds it instead).
-    """
-
-    person: SimulatedPerson | None
-    budget: int
-    dialogue: list[Exchange] = field(default_factory=list)
-
-    def offered(self) -> tuple[str, ...]:
-        """The fixed questions the planner may choose now (none without a person or once the budget is spent)."""
-        if self.person is None or len(self.dialogue) >= self.budget:
-            return ()
-        return question_texts()
-
-    def ask(self, choice: str, steps_taken: int) -> Exchange | None:
-        """The person's answer when `choice` is an offered question (None: `choice` is an action to execute)."""
-        if self.person is None or not self.offered() or not is_question(choice):
-            return None
-        exchange = self.person.ask(choice, steps_taken)
-        self.dialogue.append(exchange)
-        return exchange
-
-    def record(self) -> tuple[Exchange, ...] | None:
-        """The dialogue for the episode's result (None: not in clarification mode)."""
-        return tuple(self.dialogue) if self.person is not None else None

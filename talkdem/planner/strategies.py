@@ -221,16 +221,11 @@ def strategy_args(name: str, items: Iterable[str]) -> dict[str, OptionValue]:
     items = list(items)
     if not items:
         return {}  # no strategy module is imported for nothing
-    declared = strategy_options(name)
-    for item in items:
-        key = item.partition("=")[0].strip()
-        if key and all(option.name != key for option in declared):
-            owners = [s for s in strategies_with_option(key) if s != name]
-            if owners:
-                known = ", ".join(o.name for o in declared) or "none"
-                verb = "has" if len(owners) == 1 else "have"
-                raise ValueError(
-                    f"strategy arg '{key}': the {name} strategy has no such option (its options: {known}); "
-                    f"{' and '.join(owners)} {verb} it"
-                )
-    return parse_options(declared, items, owner=f"the {name} strategy", what="strategy arg", flag="--strategy-arg")
+    return parse_options(
+        strategy_options(name),
+        items,
+        owner=f"the {name} strategy",
+        what="strategy arg",
+        flag="--strategy-arg",
+        elsewhere=lambda key: [other for other in strategies_with_option(key) if other != name],
+    )

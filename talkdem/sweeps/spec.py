@@ -211,11 +211,6 @@ def _shown(value: object) -> str:
     return _SHOWN.repr(value)
 
 
-def _scalar(value: object) -> bool:
-    """A value a `talkdem run` option or a backend's option can take: text or a number."""
-    return isinstance(value, str | int | float) and not isinstance(value, bool)
-
-
 def _text(path: Path, key: str, value: object) -> str:
     if not isinstance(value, str) or not value.strip():
         raise _fail(path, key, f"expected a non-empty string, got {kind_of(value)}")

@@ -9,7 +9,7 @@ accepts, before any model is loaded.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -103,14 +103,23 @@ def _split(item: str, flag: str) -> tuple[str, str]:
 
 
 def parse_option(
-    options: Sequence[BackendOption], key: str, text: str, *, owner: str, what: str = "model arg"
+    options: Sequence[BackendOption],
+    key: str,
+    text: str,
+    *,
+    owner: str,
+    what: str = "model arg",
+    elsewhere: Callable[[str], Sequence[str]] | None = None,
 ) -> OptionValue:
     """The typed value of option `key` of `owner` (`the hf backend`, `the care strategy`) given as `text`;
-    ValueError (one line naming the option, its owner and what it accepts) for an unknown key or a bad value."""
+    ValueError (one line naming the option, its owner and what it accepts) for an unknown key or a bad value.
+    `elsewhere(key)` names the others that declare a key `owner` lacks (the message then says who has it)."""
     declared = {option.name: option for option in options}
     if key not in declared:
         known = ", ".join(declared) or "none"
-        raise ValueError(f"{what} '{key}': {owner} has no such option (its options: {known})")
+        others = list(elsewhere(key)) if elsewhere else []
+        hint = f"; {' and '.join(others)} {'has' if len(others) == 1 else 'have'} it" if others else ""
+        raise ValueError(f"{what} '{key}': {owner} has no such option (its options: {known}){hint}")
     option = declared[key]
     try:
         return option.parse(text)
@@ -125,13 +134,14 @@ def parse_options(
     owner: str,
     what: str = "model arg",
     flag: str = "--model-arg",
+    elsewhere: Callable[[str], Sequence[str]] | None = None,
 ) -> dict[str, OptionValue]:
     """`{key: typed value}` of `KEY=VALUE` strings, in the order given; a key given twice with two values is an
     error (which one would the run use?)."""
     parsed: dict[str, OptionValue] = {}
     for item in items:
         key, text = _split(item, flag)
-        value = parse_option(options, key, text, owner=owner, what=what)
+        value = parse_option(options, key, text, owner=owner, what=what, elsewhere=elsewhere)
         if key in parsed and parsed[key] != value:
             raise ValueError(f"{what} '{key}' given twice, as {parsed[key]!r} and {value!r}: give it once")
         parsed[key] = value
