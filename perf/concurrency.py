@@ -9,6 +9,8 @@ share of steps with the same choice on a shared history (steps up to and includi
 difference), the episodes whose outcome differs, and the projection for the 4,800 episodes on two processes.
 
 `TALKDEM_BENCH_STRATEGIES=vanilla,care` limits the strategies (all six take about half an hour on 2 cores).
+`TALKDEM_BENCH_KV=f32,f16` runs the batched side once per KV cache type (default: f16, the multi-sequence
+scorer's default; f32 is the serial scorer's).
 The 12-episode set ends with a few long episodes in flight alone (the longest runs 30 steps), so its speed-up is
 lower than a long run's, where 8 episodes are always in flight; `TALKDEM_BENCH_TASKS` widens it.
 """
@@ -79,13 +81,16 @@ def main() -> None:
     names = [n for n in os.environ.get("TALKDEM_BENCH_STRATEGIES", ",".join(STRATEGIES.names())).split(",") if n]
     episodes = select_episodes(parse_conditions(CONDITIONS), tasks)
     serial_model = LlamaCppLM(DEFAULT_MODEL, threads=THREADS)
-    batched_model = LlamaCppLM(DEFAULT_MODEL, threads=THREADS, sequences=CONCURRENCY)
-    scorer = batched_model._sequences
-    assert scorer is not None
+    kv_types = [k for k in os.environ.get("TALKDEM_BENCH_KV", "f16").split(",") if k]
+    batched_models = {
+        kv: LlamaCppLM(DEFAULT_MODEL, threads=THREADS, sequences=CONCURRENCY, f32_kv_cache=kv == "f32")
+        for kv in kv_types
+    }
     print(
         f"{DEFAULT_MODEL} (Q4_K_M, llama.cpp, {THREADS} thread): {len(episodes)} episodes per strategy "
         f"({tasks} tasks x {CONDITIONS}); --concurrency 1 ({serial_model.identity.scoring}) against "
-        f"--concurrency {CONCURRENCY} ({batched_model.identity.scoring}); load average {os.getloadavg()[0]:.1f} "
+        f"--concurrency {CONCURRENCY} ({', '.join(m.identity.scoring for m in batched_models.values())}); "
+        f"load average {os.getloadavg()[0]:.1f} "
         f"on {os.cpu_count()} CPUs"
     )
     with tempfile.TemporaryDirectory() as folder:
@@ -95,25 +100,29 @@ def main() -> None:
             before = serial_model.tokens_evaluated
             serial_wall, serial = _run(serial_model, episodes, strategy, Path(folder) / f"{name}-1", 1)
             serial_tokens = serial_model.tokens_evaluated - before
-            before, copied = scorer.tokens_evaluated, scorer.tokens_copied
-            batched_wall, batched = _run(batched_model, episodes, strategy, Path(folder) / f"{name}-8", CONCURRENCY)
-            batched_tokens = scorer.tokens_evaluated - before
-            same, compared, outcomes = shared_history_agreement(serial, batched)
-            count = len(episodes)
-            timings = (("serial", serial_wall, serial_tokens), ("batched", batched_wall, batched_tokens))
-            for label, wall, tokens in timings:
-                hours = BENCHMARK_EPISODES * wall / count / PROCESSES / 3600
+            for kv, batched_model in batched_models.items():
+                scorer = batched_model._sequences
+                assert scorer is not None
+                before, copied = scorer.tokens_evaluated, scorer.tokens_copied
+                folder_name = Path(folder) / f"{name}-8-{kv}"
+                batched_wall, batched = _run(batched_model, episodes, strategy, folder_name, CONCURRENCY)
+                batched_tokens = scorer.tokens_evaluated - before
+                same, compared, outcomes = shared_history_agreement(serial, batched)
+                count = len(episodes)
+                timings = (("serial", serial_wall, serial_tokens), (f"batched-{kv}", batched_wall, batched_tokens))
+                for label, wall, tokens in timings[0 if kv == kv_types[0] else 1 :]:
+                    hours = BENCHMARK_EPISODES * wall / count / PROCESSES / 3600
+                    print(
+                        f"  {name:<8} {label:<11} {3600 * count / wall:6.0f} episodes/h, "
+                        f"{tokens / count:5.0f} tokens/episode, {1000 * wall / max(tokens, 1):5.1f} ms/token; "
+                        f"{BENCHMARK_EPISODES} episodes on {PROCESSES} processes: {hours:4.1f} h"
+                    )
                 print(
-                    f"  {name:<8} {label:<7} {3600 * count / wall:6.0f} episodes/h, "
-                    f"{tokens / count:5.0f} tokens/episode, {1000 * wall / max(tokens, 1):5.1f} ms/token; "
-                    f"{BENCHMARK_EPISODES} episodes on {PROCESSES} processes: {hours:4.1f} h"
+                    f"  {name:<8} {kv} speed-up x{serial_wall / batched_wall:.2f}; prefix sharing copied "
+                    f"{(scorer.tokens_copied - copied) / count:.0f} tokens/episode; same choice at {same}/{compared} "
+                    f"steps on a shared history ({100 * same / max(compared, 1):.1f}%); outcome differs in "
+                    f"{outcomes}/{count} episodes"
                 )
-            print(
-                f"  {name:<8} speed-up x{serial_wall / batched_wall:.2f}; prefix sharing copied "
-                f"{(scorer.tokens_copied - copied) / count:.0f} tokens/episode; same choice at {same}/{compared} "
-                f"steps on a shared history ({100 * same / max(compared, 1):.1f}%); outcome differs in "
-                f"{outcomes}/{count} episodes"
-            )
 
 
 if __name__ == "__main__":

@@ -21,10 +21,12 @@ from talkdem.planner.prompt import append_step
 from talkdem.skills import vocabulary
 from talkdem.tasks import load_tasks
 
-NOISE = 0.75
+NOISE = 1.0
 """Nats: a bound on llama.cpp's batch-layout noise on one candidate's summed score. Measured between the serial
-scorer and 4 sequences in flight over 72 skills x the 4 steps of these tests: at most 0.55 on SmolLM2-135M (Q4_1),
-0.28 on the default model (Q4_K_M); the argmax agreed at every step."""
+scorer (float32 KV cache) and 4 sequences in flight over 72 skills x the 4 steps of these tests: with the
+multi-sequence scorer's default float16 cache at most 0.67 on SmolLM2-135M (Q4_1) and 0.42 on the default model
+(Q4_K_M), with a float32 cache 0.55 and 0.28; the argmax agreed at every step. The bound leaves room for other
+CPUs' kernels."""
 SKILLS = tuple(" " + skill.text for skill in vocabulary())
 
 
@@ -45,7 +47,7 @@ def _steps(model: LlamaCppLM, count: int) -> list[str]:
 def test_batched_choices_agree_with_serial_scoring_within_the_noise(name: str) -> None:
     serial = LlamaCppLM(name, threads=2)
     batched = LlamaCppLM(name, threads=2, sequences=4)
-    assert batched.identity.scoring == "sequences-32" and serial.identity.scoring == "chunk-16"
+    assert batched.identity.scoring == "sequences-32-f16" and serial.identity.scoring == "chunk-16"
     contexts = _steps(serial, 4)
     candidates = SKILLS[::3]
     found = batched.best_continuations([ChoiceRequest(c, candidates, session=s) for s, c in enumerate(contexts)])
@@ -104,7 +106,7 @@ def test_a_batched_run_records_its_layout_and_resumes(tmp_path: Path) -> None:
     command += ["--conditions", "clean,intrusion:3", "--max-steps", "3", "--no-progress", "--out", str(out)]
     assert main([*command, "--concurrency", "3"]) == 0
     header = read_header(out)
-    assert header.model["scoring"] == "sequences-32"
+    assert header.model["scoring"] == "sequences-32-f16"
     assert header.config["backend_args"]["concurrency"] == 3 and header.config["backend_args"]["sequences"] == 3
     first = [e.episode_id for e in read_episodes(out)]
     assert len(first) == 4 and len(set(first)) == 4

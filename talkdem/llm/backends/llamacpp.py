@@ -99,14 +99,20 @@ class LlamaCppLM(LanguageModel):
         n_ctx: context length in tokens; the logits of every position are kept (n_ctx x vocabulary floats).
         threads: CPU threads (llama.cpp's default when None).
         chat_template: wrap generation prompts in the GGUF's chat template when it has one.
-        f32_kv_cache: keep keys and values in float32 (default). llama.cpp's default float16 cache makes scores
-            depend on how tokens were split into batches (measured: 0.07 nats between the prefix-reusing and
-            the from-scratch scorer on a SayCan prompt; float32: equal to 1e-12).
+        f32_kv_cache: keep keys and values in float32, or in llama.cpp's default float16. Unset: float32 for
+            the serial scorer, float16 for the multi-sequence one. A float16 cache makes serial scores depend on
+            how tokens were split into batches (measured: 0.07 nats between the prefix-reusing and the
+            from-scratch scorer on a SayCan prompt; float32: equal to 1e-12), which would undo the fixed chunk
+            layout. The multi-sequence scorer's values carry batch-layout noise either way (up to 0.5 nats),
+            and there float16 halves the cache that every token's attention reads (measured on the 12 episodes
+            of issue 47, speed-up over serial: Vanilla x1.71 against x1.59, CARE x1.70 against x1.32;
+            docs/performance.md).
         context_chunk: the context's batch layout (see the module docstring); the run header records it
             (`model.scoring`), since scores differ between layouts.
         sequences: episodes in flight (`talkdem run --concurrency N` sets it): above 1, the choices of all of
             them run in shared decodes of one multi-sequence context (`llamacpp_sequences`), with its own layout
-            (`model.scoring` `sequences-32`); the KV cache then holds n_ctx x ceil(sequences / 2) cells.
+            (`model.scoring` `sequences-32-f16`, or `sequences-32` with a float32 cache); the KV cache then
+            holds n_ctx x ceil(sequences / 2) cells.
     """
 
     supports_json_schema = True
@@ -116,7 +122,9 @@ class LlamaCppLM(LanguageModel):
         BackendOption("n_batch", "int", "tokens evaluated per batch", minimum=1),
         BackendOption("chat_template", "bool", "wrap generation prompts in the GGUF's chat template"),
         BackendOption("seed", "int", "the sampler's seed", minimum=0),
-        BackendOption("f32_kv_cache", "bool", "float32 keys and values (false: llama.cpp's float16)"),
+        BackendOption(
+            "f32_kv_cache", "bool", "float32 keys and values (default: serially yes, with several sequences no)"
+        ),
         BackendOption("context_chunk", "int", "the context runs in chunks at fixed positions of this size", minimum=2),
         BackendOption("sequences", "int", "episodes scored together in one multi-sequence context", minimum=1),
     )
@@ -129,7 +137,7 @@ class LlamaCppLM(LanguageModel):
         n_batch: int = 512,
         chat_template: bool = True,
         seed: int = 0,
-        f32_kv_cache: bool = True,
+        f32_kv_cache: bool | None = None,
         context_chunk: int = 16,
         sequences: int = 1,
     ) -> None:
@@ -153,8 +161,8 @@ class LlamaCppLM(LanguageModel):
             "n_threads_batch": threads,
             "seed": seed,
             "flash_attn": False,
-            "type_k": _GGML_TYPE_F32 if f32_kv_cache else None,  # None: llama.cpp's default (float16)
-            "type_v": _GGML_TYPE_F32 if f32_kv_cache else None,
+            "type_k": None if f32_kv_cache is False else _GGML_TYPE_F32,  # None: llama.cpp's default (float16)
+            "type_v": None if f32_kv_cache is False else _GGML_TYPE_F32,
             "verbose": False,
         }
         self._llm: Any = Llama(logits_all=True, **self._context_options)
@@ -171,10 +179,13 @@ class LlamaCppLM(LanguageModel):
                 sequences,
                 n_ctx=n_ctx * -(-sequences // 2),
                 threads=threads,
-                f32_kv_cache=f32_kv_cache,
+                f32_kv_cache=bool(f32_kv_cache),
             )
         self.streams_choices = self._sequences is not None
-        layout = f"sequences-{self._sequences.decode_size}" if self._sequences else f"chunk-{context_chunk}"
+        if self._sequences is None:
+            layout = f"chunk-{context_chunk}"
+        else:
+            layout = f"sequences-{self._sequences.decode_size}{'' if f32_kv_cache else '-f16'}"
         self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256, scoring=layout)
         self.use_chat_template = chat_template and bool(self._llm.metadata.get("tokenizer.chat_template"))
         self.split = GGUFTokenSplit(self._llm)
