@@ -112,3 +112,29 @@ def test_a_batched_run_records_its_layout_and_resumes(tmp_path: Path) -> None:
     assert len(first) == 4 and len(set(first)) == 4
     assert main([*command, "--concurrency", "3"]) == 0
     assert [e.episode_id for e in read_episodes(out)] == first
+
+
+@pytest.mark.slow
+def test_the_winner_stays_and_the_next_step_runs_only_what_is_new() -> None:
+    """After a choice the sequence holds its context and what it last ran of the winner, never a loser's tokens,
+    so a next context that continues with the winner runs only the tokens past what is held. (Branch and bound
+    may end on another candidate's expansion, or score a one-token winner from the context's row alone: then
+    nothing of the winner is held.)"""
+    model = LlamaCppLM("smollm2-135m-instruct", threads=1, sequences=2)
+    scorer = model._sequences
+    assert scorer is not None
+    options = [model.encode(c) for c in SKILLS[::3]]
+    kept_any = False
+    for text in _steps(model, 4):
+        context = model.context_ids(text)
+        [choice] = scorer.best([0], [context], [options])
+        winner, held = options[choice.index], list(scorer.held[0])
+        assert held[: len(context)] == context
+        kept = held[len(context) :]
+        assert kept == winner[: len(kept)], "the sequence keeps the winner's tokens, and only those"
+        kept_any |= bool(kept)
+        following = context + winner + model.encode("\n")
+        before = scorer.tokens_evaluated
+        [second] = scorer.best([0], [following], [options])
+        assert scorer.tokens_evaluated - before == len(following) - len(held) + second.tokens_evaluated
+    assert kept_any, "on none of the steps did the sequence keep any of the winner"
