@@ -100,29 +100,31 @@ def main() -> None:
             before = serial_model.tokens_evaluated
             serial_wall, serial = _run(serial_model, episodes, strategy, Path(folder) / f"{name}-1", 1)
             serial_tokens = serial_model.tokens_evaluated - before
+            count = len(episodes)
+            _print_speed(name, "serial", serial_wall, serial_tokens, count)
             for kv, batched_model in batched_models.items():
                 scorer = batched_model._sequences
                 assert scorer is not None
                 before, copied = scorer.tokens_evaluated, scorer.tokens_copied
                 folder_name = Path(folder) / f"{name}-8-{kv}"
                 batched_wall, batched = _run(batched_model, episodes, strategy, folder_name, CONCURRENCY)
-                batched_tokens = scorer.tokens_evaluated - before
+                _print_speed(name, f"batched-{kv}", batched_wall, scorer.tokens_evaluated - before, count)
                 same, compared, outcomes = shared_history_agreement(serial, batched)
-                count = len(episodes)
-                timings = (("serial", serial_wall, serial_tokens), (f"batched-{kv}", batched_wall, batched_tokens))
-                for label, wall, tokens in timings[0 if kv == kv_types[0] else 1 :]:
-                    hours = BENCHMARK_EPISODES * wall / count / PROCESSES / 3600
-                    print(
-                        f"  {name:<8} {label:<11} {3600 * count / wall:6.0f} episodes/h, "
-                        f"{tokens / count:5.0f} tokens/episode, {1000 * wall / max(tokens, 1):5.1f} ms/token; "
-                        f"{BENCHMARK_EPISODES} episodes on {PROCESSES} processes: {hours:4.1f} h"
-                    )
                 print(
                     f"  {name:<8} {kv} speed-up x{serial_wall / batched_wall:.2f}; prefix sharing copied "
                     f"{(scorer.tokens_copied - copied) / count:.0f} tokens/episode; same choice at {same}/{compared} "
                     f"steps on a shared history ({100 * same / max(compared, 1):.1f}%); outcome differs in "
                     f"{outcomes}/{count} episodes"
                 )
+
+
+def _print_speed(name: str, label: str, wall: float, tokens: int, count: int) -> None:
+    hours = BENCHMARK_EPISODES * wall / count / PROCESSES / 3600
+    print(
+        f"  {name:<8} {label:<11} {3600 * count / wall:6.0f} episodes/h, "
+        f"{tokens / count:5.0f} tokens/episode, {1000 * wall / max(tokens, 1):5.1f} ms/token; "
+        f"{BENCHMARK_EPISODES} episodes on {PROCESSES} processes: {hours:4.1f} h"
+    )
 
 
 if __name__ == "__main__":

@@ -153,6 +153,7 @@ class LlamaCppLM(LanguageModel):
             raise ImportError(_MISSING) from error
         path, name, sha256 = _resolve(model)
         self.path = path
+        serial_f32 = f32_kv_cache is not False  # unset: float32 serially, float16 with several sequences
         self._context_options: dict[str, Any] = {
             "model_path": str(path),
             "n_ctx": n_ctx,
@@ -161,8 +162,8 @@ class LlamaCppLM(LanguageModel):
             "n_threads_batch": threads,
             "seed": seed,
             "flash_attn": False,
-            "type_k": None if f32_kv_cache is False else _GGML_TYPE_F32,  # None: llama.cpp's default (float16)
-            "type_v": None if f32_kv_cache is False else _GGML_TYPE_F32,
+            "type_k": _GGML_TYPE_F32 if serial_f32 else None,  # None: llama.cpp's default (float16)
+            "type_v": _GGML_TYPE_F32 if serial_f32 else None,
             "verbose": False,
         }
         self._llm: Any = Llama(logits_all=True, **self._context_options)
@@ -182,10 +183,7 @@ class LlamaCppLM(LanguageModel):
                 f32_kv_cache=bool(f32_kv_cache),
             )
         self.streams_choices = self._sequences is not None
-        if self._sequences is None:
-            layout = f"chunk-{context_chunk}"
-        else:
-            layout = f"sequences-{self._sequences.decode_size}{'' if f32_kv_cache else '-f16'}"
+        layout = self._sequences.layout if self._sequences else f"chunk-{context_chunk}"
         self.identity = ModelIdentity(backend="llamacpp", name=name, revision=sha256, scoring=layout)
         self.use_chat_template = chat_template and bool(self._llm.metadata.get("tokenizer.chat_template"))
         self.split = GGUFTokenSplit(self._llm)

@@ -118,6 +118,8 @@ class SequenceScorer:
         self.sequences = sequences
         self.n_ctx = n_ctx
         self.decode_size = decode_size
+        self.layout = f"sequences-{decode_size}{'' if f32_kv_cache else '-f16'}"
+        """What run headers record as `model.scoring`: the decode size and, when float16, the KV cache type."""
         self.held: list[list[int]] = [[] for _ in range(sequences)]
         """The tokens each sequence holds, in position order."""
         self.tokens_evaluated = 0
